@@ -1,0 +1,160 @@
+/* subsplat: real-time subsurface scattering by multiresolution splatting
+ * (Chen, Peers, Zhang, Tong 2012). Plain C API.
+ *
+ * Conventions
+ * - Every entry point returns an SsStatus and never throws or aborts. On
+ *   failure ssGetLastError() returns a message for the calling thread.
+ * - Handles are opaque. A context owns GL objects and must be created, used
+ *   and released with the same OpenGL context current (OpenGL 4.3 core or
+ *   newer); the library never creates or switches GL contexts.
+ * - Geometry is in scene units (1 Blender unit = 1 m); matrices are 4x4,
+ *   column-major (OpenGL / GLM / mathutils-transposed order).
+ * - Scattering coefficients are per millimetre; a material's mm_per_unit
+ *   converts scene units to millimetres.
+ * - Radiance out is scene-linear Rec.709, the same as Cycles.
+ */
+#ifndef SUBSPLAT_H
+#define SUBSPLAT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define SS_API __declspec(dllexport)
+#else
+#define SS_API __attribute__((visibility("default")))
+#endif
+
+#define SS_API_VERSION 1
+
+typedef enum SsStatus {
+  SS_OK = 0,
+  SS_INVALID_ARGUMENT = 1, /* bad pointer, count, index, non-finite value */
+  SS_INVALID_HANDLE = 2,
+  SS_OUT_OF_MEMORY = 3,
+  SS_GL_ERROR = 4,         /* no GL context, missing features, shader build */
+  SS_LIMIT_EXCEEDED = 5,   /* sizes beyond GL limits or the memory budget */
+  SS_INTERNAL_ERROR = 6
+} SsStatus;
+
+typedef struct SsContext_* SsContext;
+
+typedef enum SsMethod {
+  SS_METHOD_BRUTE = 0 /* every finest-level texel splatted (Shah et al. 2009) */
+} SsMethod;
+
+typedef enum SsLightType {
+  SS_LIGHT_POINT = 0,
+  SS_LIGHT_SPOT = 1,
+  SS_LIGHT_SUN = 2
+} SsLightType;
+
+/* A triangle mesh in object space, indexed by corners. */
+typedef struct SsMeshDesc {
+  const float* positions;   /* 3 * vertex_count */
+  const float* normals;     /* 3 * vertex_count, may be NULL (flat normals) */
+  const float* uvs;         /* 2 * vertex_count, may be NULL */
+  uint32_t vertex_count;
+  const uint32_t* indices;  /* 3 * triangle_count */
+  const uint32_t* triangle_materials; /* triangle_count material ids, may be NULL */
+  uint32_t triangle_count;
+  uint32_t default_material; /* material id of triangles when triangle_materials is NULL */
+  float object_to_world[16];
+} SsMeshDesc;
+
+typedef enum SsMaterialKind {
+  SS_MATERIAL_OPAQUE = 0,  /* diffuse + specular, no subsurface transport */
+  SS_MATERIAL_DIPOLE = 1   /* homogeneous dipole (Jensen et al. 2001) */
+} SsMaterialKind;
+
+typedef struct SsMaterialDesc {
+  int32_t kind;            /* SsMaterialKind */
+  float base_color[3];     /* OPAQUE: diffuse albedo */
+  float sigma_a[3];        /* DIPOLE: absorption, per mm */
+  float sigma_s_prime[3];  /* DIPOLE: reduced scattering, per mm */
+  float eta;               /* DIPOLE: relative index of refraction */
+  float mm_per_unit;       /* DIPOLE: millimetres per scene unit */
+  float roughness;         /* specular roughness in [0, 1] */
+  float specular;          /* Principled-style specular level in [0, 1] */
+} SsMaterialDesc;
+
+typedef struct SsLightDesc {
+  int32_t type;            /* SsLightType */
+  float color[3];          /* linear RGB */
+  /* POINT, SPOT: power in watts (Blender/Cycles convention, I = P / 4pi W/sr).
+   * SUN: irradiance in W/m^2 on a surface facing the sun. */
+  float strength;
+  float position[3];       /* POINT, SPOT: world position */
+  float direction[3];      /* SPOT, SUN: direction the light travels */
+  float spot_size;         /* SPOT: full cone angle, radians */
+  float spot_blend;        /* SPOT: [0, 1] */
+} SsLightDesc;
+
+typedef struct SsCameraDesc {
+  float world_to_view[16];
+  float view_to_clip[16];  /* OpenGL clip space, as Blender's calc_matrix_camera */
+  int32_t orthographic;
+} SsCameraDesc;
+
+typedef struct SsSettings {
+  int32_t method;                /* SsMethod */
+  int32_t irradiance_resolution; /* texels per side of each irradiance view */
+  float background[4];           /* RGBA written where no object is hit */
+} SsSettings;
+
+/* Per-stage figures of the last render. Times from GL timer queries. */
+#define SS_STAGE_COUNT 4
+typedef enum SsStage {
+  SS_STAGE_BUFFERS = 0,   /* irradiance and splatting buffer generation */
+  SS_STAGE_SPLATTING = 1, /* splatting of irradiance samples */
+  SS_STAGE_SHADING = 2,   /* direct lighting and final shading (eq. 7) */
+  SS_STAGE_READBACK = 3
+} SsStage;
+
+typedef struct SsStats {
+  double frame_ms;                           /* wall time of ssRender */
+  double stage_ms[SS_STAGE_COUNT];           /* GPU time per stage */
+  uint64_t fragment_invocations[SS_STAGE_COUNT];
+  uint64_t splat_count;                      /* irradiance samples splatted */
+  int32_t width, height;
+  int32_t light_views;                       /* irradiance buffers rendered */
+  int32_t timers_available, statistics_available;
+} SsStats;
+
+/* Library */
+SS_API int32_t ssGetApiVersion(void);
+SS_API const char* ssGetLastError(void);
+
+/* Context: needs a current OpenGL 4.3+ core context. */
+SS_API SsStatus ssNewContext(SsContext* out);
+SS_API SsStatus ssReleaseContext(SsContext context);
+
+/* Scene. Ids are the caller's; setting an existing id replaces it. */
+SS_API SsStatus ssSetMaterial(SsContext context, uint32_t material_id, const SsMaterialDesc* material);
+SS_API SsStatus ssSetMesh(SsContext context, uint32_t object_id, const SsMeshDesc* mesh);
+SS_API SsStatus ssRemoveMesh(SsContext context, uint32_t object_id);
+SS_API SsStatus ssClearScene(SsContext context);
+SS_API SsStatus ssSetLights(SsContext context, const SsLightDesc* lights, uint32_t count);
+SS_API SsStatus ssSetCamera(SsContext context, const SsCameraDesc* camera);
+SS_API SsStatus ssSetSettings(SsContext context, const SsSettings* settings);
+
+/* Renders width x height and writes linear RGBA floats, bottom row first. */
+SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);
+SS_API SsStatus ssGetStats(SsContext context, SsStats* out);
+
+/* Material model, no GL needed. */
+typedef struct SsProfileInfo {
+  float total_reflectance[3];  /* Rd_total: integral of R_d over the plane */
+  float effective_range[3];    /* R_P: radius keeping 95% of the energy, scene units */
+  float support_radius;        /* radius splats reach, scene units */
+} SsProfileInfo;
+SS_API SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

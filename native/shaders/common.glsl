@@ -1,0 +1,52 @@
+// Shared by every subsplat shader (prepended after #version).
+const float PI = 3.14159265358979;
+
+// One entry per material (scene.cpp: MaterialGpu).
+struct Material {
+  vec4 baseColorKind;  // rgb diffuse albedo (opaque), w: 0 opaque, 1 dipole
+  vec4 optics;         // eta, roughness, specular, kernel layer
+  vec4 ranges;         // support radius, effective range R_P (max), 0, 0
+};
+layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
+
+bool isTranslucent(int m) { return m >= 0 && materials[m].baseColorKind.w > 0.5; }
+
+// Unpolarised Fresnel transmittance into a dielectric of relative index eta.
+float fresnelTransmittance(float eta, float cosTheta) {
+  cosTheta = clamp(cosTheta, 0.0, 1.0);
+  float sin2T = (1.0 - cosTheta * cosTheta) / (eta * eta);
+  if (sin2T >= 1.0) return 0.0;
+  float cosT = sqrt(1.0 - sin2T);
+  float rs = (cosTheta - eta * cosT) / (cosTheta + eta * cosT);
+  float rp = (eta * cosTheta - cosT) / (eta * cosTheta + cosT);
+  return 1.0 - 0.5 * (rs * rs + rp * rp);
+}
+
+// One view of a light: what the irradiance buffer was rendered with.
+uniform mat4 lightViewProj;
+uniform vec3 lightPosition;   // point and spot
+uniform vec3 lightDirection;  // direction the light travels (spot axis, sun)
+uniform vec3 lightRadiant;    // colour x (intensity W/sr | sun irradiance W/m^2)
+uniform int lightType;        // 0 point, 1 spot, 2 sun
+uniform float lightCosHalfSpot, lightSpotSmooth;
+
+// Direction towards the light and the irradiance a surface facing it gets.
+vec3 towardsLight(vec3 p) {
+  return lightType == 2 ? -lightDirection : normalize(lightPosition - p);
+}
+vec3 irradianceFacingLight(vec3 p) {
+  if (lightType == 2) return lightRadiant;
+  vec3 d = lightPosition - p;
+  vec3 e = lightRadiant / max(dot(d, d), 1e-20);
+  if (lightType == 1) {
+    // Cycles' spot attenuation (kernel/light/spot.h in 3.x): the cosine to
+    // the axis, cut at the cone and smoothed over the blend region.
+    float c = dot(-normalize(d), lightDirection);
+    float attenuation = c <= lightCosHalfSpot ? 0.0 : c;
+    float t = c - lightCosHalfSpot;
+    if (attenuation > 0.0 && t < lightSpotSmooth && lightSpotSmooth > 0.0)
+      attenuation *= smoothstep(0.0, 1.0, t / lightSpotSmooth);
+    e *= attenuation;
+  }
+  return e;
+}

@@ -1,0 +1,63 @@
+// Direct light of one light view: diffuse for opaque surfaces, specular for
+// every surface, shadowed by the view's irradiance buffer.
+uniform sampler2D splattingPositionObject;
+uniform sampler2D splattingNormalMaterial;
+uniform sampler2D irradianceLightDepth;
+uniform vec3 cameraPosition;
+uniform vec3 cameraForward;
+uniform int orthographic;
+uniform int resolution;
+uniform float shadowTexelSize;   // world size of a texel at distance 1 (or absolute, sun)
+uniform int unshadowedOutside;   // sun: surfaces outside the view are lit
+layout(location = 0) out vec4 radiance;
+
+float ggx(float nh, float alpha2) {
+  float d = nh * nh * (alpha2 - 1.0) + 1.0;
+  return alpha2 / (PI * d * d);
+}
+float smithG1(float nv, float alpha2) {
+  return 2.0 * nv / (nv + sqrt(alpha2 + (1.0 - alpha2) * nv * nv));
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec4 po = texelFetch(splattingPositionObject, pixel, 0);
+  if (po.w < 0.0) discard;
+  vec4 nm = texelFetch(splattingNormalMaterial, pixel, 0);
+  vec3 p = po.xyz, n = normalize(nm.xyz);
+  int m = int(nm.w);
+  vec3 L = towardsLight(p);
+  float nl = dot(n, L);
+  if (nl <= 0.0) discard;
+
+  // Does this view own the pixel, and does the light reach it?
+  float texel = lightType == 2 ? shadowTexelSize
+                               : shadowTexelSize * distance(p, lightPosition);
+  vec3 offset = p + n * (1.5 * texel);
+  vec4 clip = lightViewProj * vec4(offset, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  bool inside = clip.w > 0.0 && all(lessThan(abs(ndc.xy), vec2(1.0)));
+  float visibility = 1.0;
+  if (inside) {
+    ivec2 t = clamp(ivec2((ndc.xy * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
+    float stored = texelFetch(irradianceLightDepth, t, 0).r;
+    float depth = lightType == 2 ? dot(offset, lightDirection) : distance(offset, lightPosition);
+    visibility = depth <= stored + 2.0 * texel ? 1.0 : 0.0;
+  } else if (unshadowedOutside == 0) {
+    discard;
+  }
+
+  vec3 E = irradianceFacingLight(p) * nl * visibility;
+  vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - p);
+  float nv = max(dot(n, V), 1e-4);
+  vec3 H = normalize(L + V);
+  float roughness = clamp(materials[m].optics.y, 0.02, 1.0);
+  float alpha2 = pow(roughness, 4.0);
+  float f0 = 0.08 * materials[m].optics.z;
+  float fresnel = f0 + (1.0 - f0) * pow(1.0 - max(dot(H, V), 0.0), 5.0);
+  float specular = f0 > 0.0 ? ggx(max(dot(n, H), 0.0), alpha2) * smithG1(nl, alpha2) *
+                                  smithG1(nv, alpha2) * fresnel / (4.0 * nl * nv)
+                            : 0.0;
+  vec3 diffuse = isTranslucent(m) ? vec3(0.0) : materials[m].baseColorKind.rgb / PI;
+  radiance = vec4((diffuse + vec3(specular)) * E, 0.0);
+}

@@ -1,0 +1,25 @@
+// Eq. 7: L = F_t(w_o) / pi * B(x_o) for translucent surfaces, plus the direct
+// light gathered before; the background where no surface was hit.
+uniform sampler2D splattingPositionObject;
+uniform sampler2D splattingNormalMaterial;
+uniform sampler2D exitanceBuffer;
+uniform sampler2D directRadiance;
+uniform vec3 cameraPosition;
+uniform vec3 cameraForward;
+uniform int orthographic;
+uniform vec4 background;
+layout(location = 0) out vec4 color;
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec4 po = texelFetch(splattingPositionObject, pixel, 0);
+  if (po.w < 0.0) { color = background; return; }
+  vec4 nm = texelFetch(splattingNormalMaterial, pixel, 0);
+  int m = int(nm.w);
+  vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
+  if (isTranslucent(m)) {
+    vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
+    float ft = fresnelTransmittance(materials[m].optics.x, dot(normalize(nm.xyz), V));
+    L += ft / PI * texelFetch(exitanceBuffer, pixel, 0).rgb;
+  }
+  color = vec4(L, 1.0);
+}

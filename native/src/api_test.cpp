@@ -1,0 +1,125 @@
+// The C API rejects bad input with a status and a message, and never crashes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+#include "testing/scenes.h"
+
+namespace subsplat {
+namespace {
+
+class Api : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
+  void TearDown() override { EXPECT_EQ(ssReleaseContext(context), SS_OK); }
+  static std::string error() { return ssGetLastError(); }
+
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  testing::Quad quad;
+};
+
+TEST(ApiWithoutContext, NewContextFailsCleanlyWithoutGl) {
+  SsContext c = reinterpret_cast<SsContext>(0x1);
+  EXPECT_EQ(ssNewContext(&c), SS_GL_ERROR);
+  EXPECT_EQ(c, nullptr);
+  EXPECT_NE(std::string(ssGetLastError()).find("no OpenGL context"), std::string::npos);
+}
+
+TEST(ApiWithoutContext, NullPointersAreRejected) {
+  EXPECT_EQ(ssNewContext(nullptr), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssReleaseContext(nullptr), SS_INVALID_HANDLE);
+  EXPECT_EQ(ssRender(nullptr, 4, 4, nullptr), SS_INVALID_HANDLE);
+  EXPECT_EQ(ssGetProfileInfo(nullptr, nullptr), SS_INVALID_ARGUMENT);
+  uint64_t notAContext[4] = {0, 0, 0, 0};
+  EXPECT_EQ(ssSetLights(reinterpret_cast<SsContext>(notAContext), nullptr, 0), SS_INVALID_HANDLE);
+  EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat context"), std::string::npos);
+}
+
+TEST_F(Api, NaNPositionIsRejectedWithTheVertex) {
+  std::vector<float> positions = quad.positions;
+  positions[7] = std::numeric_limits<float>::quiet_NaN();
+  SsMeshDesc mesh = quad.desc(1.0f, 0);
+  mesh.positions = positions.data();
+  EXPECT_EQ(ssSetMesh(context, 7, &mesh), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("mesh 7: vertex 2 has a non-finite position"), std::string::npos) << error();
+}
+
+TEST_F(Api, IndexOutOfRangeIsRejected) {
+  std::vector<uint32_t> indices = quad.indices;
+  indices[4] = 4;
+  SsMeshDesc mesh = quad.desc(1.0f, 0);
+  mesh.indices = indices.data();
+  EXPECT_EQ(ssSetMesh(context, 1, &mesh), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("out of range"), std::string::npos) << error();
+}
+
+TEST_F(Api, EmptyMeshAndNullArraysAreRejected) {
+  SsMeshDesc mesh = quad.desc(1.0f, 0);
+  mesh.triangle_count = 0;
+  EXPECT_EQ(ssSetMesh(context, 1, &mesh), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("empty"), std::string::npos) << error();
+  mesh = quad.desc(1.0f, 0);
+  mesh.positions = nullptr;
+  EXPECT_EQ(ssSetMesh(context, 1, &mesh), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssSetMesh(context, 1, nullptr), SS_INVALID_ARGUMENT);
+}
+
+TEST_F(Api, ZeroAndAbsurdRenderSizesAreRejected) {
+  SsCameraDesc camera = testing::topDownCamera(1.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  float pixel[4];
+  EXPECT_EQ(ssRender(context, 0, 10, pixel), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssRender(context, 10, -1, pixel), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssRender(context, 1, 1, nullptr), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssRender(context, 1 << 20, 1, pixel), SS_LIMIT_EXCEEDED);
+  SsSettings settings{SS_METHOD_BRUTE, 0, {0, 0, 0, 0}};
+  EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("irradiance resolution"), std::string::npos) << error();
+}
+
+TEST_F(Api, BadMaterialsAreRejectedWithTheValue) {
+  SsMaterialDesc m = testing::marbleMaterial(20.0f);
+  m.sigma_a[1] = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(ssSetMaterial(context, 0, &m), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("sigma_a"), std::string::npos) << error();
+  m = testing::marbleMaterial(20.0f);
+  m.eta = 0.5f;
+  EXPECT_EQ(ssSetMaterial(context, 0, &m), SS_INVALID_ARGUMENT);
+  m = testing::marbleMaterial(0.0f);
+  EXPECT_EQ(ssSetMaterial(context, 0, &m), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("mm_per_unit"), std::string::npos) << error();
+}
+
+TEST_F(Api, MeshWithUnsetMaterialFailsAtRender) {
+  SsMeshDesc mesh = quad.desc(1.0f, 42);
+  ASSERT_EQ(ssSetMesh(context, 3, &mesh), SS_OK) << error();
+  SsCameraDesc camera = testing::topDownCamera(1.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  std::vector<float> image(16 * 16 * 4);
+  EXPECT_EQ(ssRender(context, 16, 16, image.data()), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("material 42, which was never set"), std::string::npos) << error();
+}
+
+TEST_F(Api, RenderWithoutCameraIsAnError) {
+  std::vector<float> image(4 * 4 * 4);
+  EXPECT_EQ(ssRender(context, 4, 4, image.data()), SS_INVALID_ARGUMENT);
+  EXPECT_NE(error().find("no camera"), std::string::npos);
+}
+
+TEST_F(Api, BadLightsAreRejected) {
+  SsLightDesc light = testing::sunLight(1.0f, 0.0f);
+  light.direction[0] = light.direction[1] = light.direction[2] = 0.0f;
+  EXPECT_EQ(ssSetLights(context, &light, 1), SS_INVALID_ARGUMENT);
+  light = testing::sunLight(std::nanf(""), 0.0f);
+  EXPECT_EQ(ssSetLights(context, &light, 1), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssSetLights(context, nullptr, 2), SS_INVALID_ARGUMENT);
+}
+
+}  // namespace
+}  // namespace subsplat

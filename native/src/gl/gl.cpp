@@ -1,0 +1,235 @@
+#include "gl/gl.h"
+
+#include <vector>
+
+#include "gl/shader_sources.h"
+#include "util/error.h"
+
+namespace subsplat::gl {
+
+void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
+void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+void deleteProgram(GLuint id) { glDeleteProgram(id); }
+void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
+
+static void setFilter(GLenum target, GLenum filter) {
+  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
+  glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  Texture texture(id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glTexStorage2D(GL_TEXTURE_2D, 1, internalFormat, width, height);
+  setFilter(GL_TEXTURE_2D, filter);
+  checkErrors("texture allocation");
+  return texture;
+}
+
+Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int layers,
+                           GLenum filter) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  Texture texture(id);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, id);
+  glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internalFormat, width, height, layers);
+  setFilter(GL_TEXTURE_2D_ARRAY, filter);
+  checkErrors("texture array allocation");
+  return texture;
+}
+
+Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage) {
+  GLuint id = 0;
+  glGenBuffers(1, &id);
+  Buffer buffer(id);
+  glBindBuffer(target, id);
+  glBufferData(target, GLsizeiptr(bytes), data, usage);
+  checkErrors("buffer allocation");
+  return buffer;
+}
+
+VertexArray makeVertexArray() {
+  GLuint id = 0;
+  glGenVertexArrays(1, &id);
+  return VertexArray(id);
+}
+
+Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture) {
+  GLuint id = 0;
+  glGenFramebuffers(1, &id);
+  Framebuffer framebuffer(id);
+  glBindFramebuffer(GL_FRAMEBUFFER, id);
+  std::vector<GLenum> drawBuffers;
+  for (GLuint texture : colorTextures) {
+    GLenum attachment = GL_COLOR_ATTACHMENT0 + GLenum(drawBuffers.size());
+    glFramebufferTexture(GL_FRAMEBUFFER, attachment, texture, 0);
+    drawBuffers.push_back(attachment);
+  }
+  if (depthTexture) glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthTexture, 0);
+  glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
+  GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    fail(SS_GL_ERROR, "framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+  return framebuffer;
+}
+
+static GLuint compileShader(GLenum type, const std::string& name) {
+  const char* source = shaderSource(name);
+  if (!source) fail(SS_INTERNAL_ERROR, "no embedded shader named " + name);
+  std::string header = "#version 430 core\n";
+  std::string include = shaderSource("common.glsl");
+  std::string full = header + include + "\n#line 1\n" + source;
+  const char* text = full.c_str();
+  GLuint shader = glCreateShader(type);
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    fail(SS_GL_ERROR, "shader " + name + " failed to compile: " + log);
+  }
+  return shader;
+}
+
+Program makeProgram(const std::string& vertex, const std::string& geometry,
+                    const std::string& fragment) {
+  Program program(glCreateProgram());
+  std::vector<GLuint> shaders;
+  try {
+    shaders.push_back(compileShader(GL_VERTEX_SHADER, vertex));
+    if (!geometry.empty()) shaders.push_back(compileShader(GL_GEOMETRY_SHADER, geometry));
+    shaders.push_back(compileShader(GL_FRAGMENT_SHADER, fragment));
+  } catch (...) {
+    for (GLuint s : shaders) glDeleteShader(s);
+    throw;
+  }
+  for (GLuint s : shaders) glAttachShader(program.id(), s);
+  glLinkProgram(program.id());
+  for (GLuint s : shaders) glDeleteShader(s);
+  GLint ok = 0;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+    fail(SS_GL_ERROR, "program " + vertex + "+" + fragment + " failed to link: " + log);
+  }
+  return program;
+}
+
+void checkErrors(const char* stage) {
+  GLenum error = glGetError();
+  if (error == GL_NO_ERROR) return;
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  const char* name = error == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY"
+                     : error == GL_INVALID_OPERATION ? "GL_INVALID_OPERATION"
+                     : error == GL_INVALID_VALUE ? "GL_INVALID_VALUE"
+                     : error == GL_INVALID_ENUM ? "GL_INVALID_ENUM"
+                     : error == GL_INVALID_FRAMEBUFFER_OPERATION ? "GL_INVALID_FRAMEBUFFER_OPERATION"
+                                                                 : "GL error";
+  fail(error == GL_OUT_OF_MEMORY ? SS_OUT_OF_MEMORY : SS_GL_ERROR,
+       std::string(name) + " during " + stage);
+}
+
+StateGuard::StateGuard() {
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer_);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer_);
+  glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vertexArray_);
+  glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &arrayBuffer_);
+  glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &uniformBuffer_);
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &shaderStorageBuffer_);
+  glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pixelPackBuffer_);
+  glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &pixelUnpackBuffer_);
+  glGetIntegerv(GL_ACTIVE_TEXTURE, &activeTexture_);
+  for (int unit = 0; unit < kUnits; ++unit) {
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture2D_[unit]);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &texture2DArray_[unit]);
+    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &textureBuffer_[unit]);
+  }
+  glActiveTexture(GLenum(activeTexture_));
+  glGetIntegerv(GL_VIEWPORT, viewport_);
+  glGetIntegerv(GL_SCISSOR_BOX, scissorBox_);
+  glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment_);
+  glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment_);
+  glGetIntegerv(GL_PACK_ROW_LENGTH, &packRowLength_);
+  glGetIntegerv(GL_UNPACK_ROW_LENGTH, &unpackRowLength_);
+  glGetIntegerv(GL_BLEND_SRC_RGB, &blendSrcRgb_);
+  glGetIntegerv(GL_BLEND_DST_RGB, &blendDstRgb_);
+  glGetIntegerv(GL_BLEND_SRC_ALPHA, &blendSrcAlpha_);
+  glGetIntegerv(GL_BLEND_DST_ALPHA, &blendDstAlpha_);
+  glGetIntegerv(GL_BLEND_EQUATION_RGB, &blendEqRgb_);
+  glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &blendEqAlpha_);
+  glGetIntegerv(GL_DEPTH_FUNC, &depthFunc_);
+  glGetIntegerv(GL_CULL_FACE_MODE, &cullFaceMode_);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask_);
+  glGetBooleanv(GL_COLOR_WRITEMASK, colorMask_);
+  glGetFloatv(GL_COLOR_CLEAR_VALUE, clearColor_);
+  glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clearDepth_);
+  blend_ = glIsEnabled(GL_BLEND);
+  depthTest_ = glIsEnabled(GL_DEPTH_TEST);
+  cullFace_ = glIsEnabled(GL_CULL_FACE);
+  scissorTest_ = glIsEnabled(GL_SCISSOR_TEST);
+  stencilTest_ = glIsEnabled(GL_STENCIL_TEST);
+  programPointSize_ = glIsEnabled(GL_PROGRAM_POINT_SIZE);
+  framebufferSrgb_ = glIsEnabled(GL_FRAMEBUFFER_SRGB);
+}
+
+static void setEnabled(GLenum cap, GLboolean on) { on ? glEnable(cap) : glDisable(cap); }
+
+StateGuard::~StateGuard() {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawFramebuffer_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readFramebuffer_));
+  glUseProgram(GLuint(program_));
+  glBindVertexArray(GLuint(vertexArray_));
+  glBindBuffer(GL_ARRAY_BUFFER, GLuint(arrayBuffer_));
+  glBindBuffer(GL_UNIFORM_BUFFER, GLuint(uniformBuffer_));
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(shaderStorageBuffer_));
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pixelPackBuffer_));
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(pixelUnpackBuffer_));
+  for (int unit = 0; unit < kUnits; ++unit) {
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glBindTexture(GL_TEXTURE_2D, GLuint(texture2D_[unit]));
+    glBindTexture(GL_TEXTURE_2D_ARRAY, GLuint(texture2DArray_[unit]));
+    glBindTexture(GL_TEXTURE_BUFFER, GLuint(textureBuffer_[unit]));
+  }
+  glActiveTexture(GLenum(activeTexture_));
+  glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+  glScissor(scissorBox_[0], scissorBox_[1], scissorBox_[2], scissorBox_[3]);
+  glPixelStorei(GL_PACK_ALIGNMENT, packAlignment_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment_);
+  glPixelStorei(GL_PACK_ROW_LENGTH, packRowLength_);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, unpackRowLength_);
+  glBlendFuncSeparate(GLenum(blendSrcRgb_), GLenum(blendDstRgb_), GLenum(blendSrcAlpha_),
+                      GLenum(blendDstAlpha_));
+  glBlendEquationSeparate(GLenum(blendEqRgb_), GLenum(blendEqAlpha_));
+  glDepthFunc(GLenum(depthFunc_));
+  glCullFace(GLenum(cullFaceMode_));
+  glDepthMask(depthMask_);
+  glColorMask(colorMask_[0], colorMask_[1], colorMask_[2], colorMask_[3]);
+  glClearColor(clearColor_[0], clearColor_[1], clearColor_[2], clearColor_[3]);
+  glClearDepth(clearDepth_);
+  setEnabled(GL_BLEND, blend_);
+  setEnabled(GL_DEPTH_TEST, depthTest_);
+  setEnabled(GL_CULL_FACE, cullFace_);
+  setEnabled(GL_SCISSOR_TEST, scissorTest_);
+  setEnabled(GL_STENCIL_TEST, stencilTest_);
+  setEnabled(GL_PROGRAM_POINT_SIZE, programPointSize_);
+  setEnabled(GL_FRAMEBUFFER_SRGB, framebufferSrgb_);
+}
+
+}  // namespace subsplat::gl

@@ -1,0 +1,86 @@
+// RAII wrappers for the GL objects the pipeline owns. Move only.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <string>
+#include <utility>
+
+namespace subsplat::gl {
+
+template <void (*Delete)(GLuint)>
+class Object {
+ public:
+  Object() = default;
+  explicit Object(GLuint id) : id_(id) {}
+  ~Object() { reset(); }
+  Object(Object&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  Object& operator=(Object&& o) noexcept {
+    if (this != &o) { reset(); id_ = std::exchange(o.id_, 0); }
+    return *this;
+  }
+  Object(const Object&) = delete;
+  Object& operator=(const Object&) = delete;
+  void reset() { if (id_) Delete(id_); id_ = 0; }
+  GLuint id() const { return id_; }
+  explicit operator bool() const { return id_ != 0; }
+
+ private:
+  GLuint id_ = 0;
+};
+
+void deleteTexture(GLuint id);
+void deleteBuffer(GLuint id);
+void deleteFramebuffer(GLuint id);
+void deleteVertexArray(GLuint id);
+void deleteProgram(GLuint id);
+void deleteQuery(GLuint id);
+
+using Texture = Object<deleteTexture>;
+using Buffer = Object<deleteBuffer>;
+using Framebuffer = Object<deleteFramebuffer>;
+using VertexArray = Object<deleteVertexArray>;
+using Program = Object<deleteProgram>;
+using Query = Object<deleteQuery>;
+
+Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter = GL_NEAREST);
+Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int layers,
+                           GLenum filter = GL_NEAREST);
+Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage = GL_STATIC_DRAW);
+VertexArray makeVertexArray();
+Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture);
+// Compiles and links shaders by name from the embedded table (shaders/*.glsl);
+// throws with the info log on failure.
+Program makeProgram(const std::string& vertex, const std::string& geometry,
+                    const std::string& fragment);
+
+// Throws SS_GL_ERROR naming the stage when glGetError reports anything.
+void checkErrors(const char* stage);
+
+// Saves the GL state the library touches and restores it on destruction
+// (STYLE.md: one guard around each entry point that issues GL).
+class StateGuard {
+ public:
+  StateGuard();
+  ~StateGuard();
+  StateGuard(const StateGuard&) = delete;
+  StateGuard& operator=(const StateGuard&) = delete;
+
+ private:
+  GLint drawFramebuffer_ = 0, readFramebuffer_ = 0, program_ = 0, vertexArray_ = 0;
+  GLint arrayBuffer_ = 0, activeTexture_ = 0, viewport_[4] = {}, scissorBox_[4] = {};
+  static constexpr int kUnits = 8;  // texture units the pipeline binds
+  GLint texture2D_[kUnits] = {}, texture2DArray_[kUnits] = {}, textureBuffer_[kUnits] = {};
+  GLint uniformBuffer_ = 0;
+  GLint shaderStorageBuffer_ = 0;
+  GLint packAlignment_ = 4, unpackAlignment_ = 4, packRowLength_ = 0, unpackRowLength_ = 0;
+  GLint blendSrcRgb_ = 0, blendDstRgb_ = 0, blendSrcAlpha_ = 0, blendDstAlpha_ = 0;
+  GLint blendEqRgb_ = 0, blendEqAlpha_ = 0, depthFunc_ = 0, cullFaceMode_ = 0;
+  GLint pixelPackBuffer_ = 0, pixelUnpackBuffer_ = 0;
+  GLboolean depthMask_ = GL_TRUE, colorMask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+  GLboolean blend_ = 0, depthTest_ = 0, cullFace_ = 0, scissorTest_ = 0, stencilTest_ = 0;
+  GLboolean programPointSize_ = 0, framebufferSrgb_ = 0;
+  GLfloat clearColor_[4] = {}, clearDepth_ = 1.0f;
+};
+
+}  // namespace subsplat::gl

@@ -1,0 +1,41 @@
+// The dipole diffusion model of Jensen et al. 2001 (papers/xu2007 table 1,
+// papers/lensch2002 fig. 2). Lengths in millimetres, R_d in 1/mm^2.
+#pragma once
+
+namespace subsplat {
+
+struct DipoleChannel {
+  double sigmaA = 0.0;       // absorption, 1/mm
+  double sigmaSPrime = 0.0;  // reduced scattering, 1/mm
+  double eta = 1.3;
+};
+
+// Fresnel diffuse reflectance F_dr (polynomial fit, Jensen et al. 2001).
+double fresnelDiffuseReflectance(double eta);
+
+// Fresnel transmittance F_t = 1 - F_r for unpolarised light entering a
+// dielectric of relative index eta at cos(theta) = cosTheta.
+double fresnelTransmittance(double eta, double cosTheta);
+
+class Dipole {
+ public:
+  explicit Dipole(const DipoleChannel& channel);
+
+  // R_d(r): radiant exitance at distance r per unit incident flux.
+  double diffuseReflectance(double r) const;
+  // Energy within radius r: the integral of R_d over the disk, 2 pi r dr.
+  // Closed form: d/dr(e^{-s d}/d) = -(s + 1/d) e^{-s d} r / d^3.
+  double energyWithin(double r) const;
+  // Rd_total: energy over the whole plane (DESIGN.md, Jensen et al. 2001).
+  double totalReflectance() const;
+  // Radius that keeps the given fraction of totalReflectance().
+  double radiusForEnergy(double fraction) const;
+
+  double reducedAlbedo() const { return albedo_; }
+  double effectiveExtinction() const { return sigmaTr_; }
+
+ private:
+  double albedo_ = 0, sigmaTr_ = 0, zr_ = 0, zv_ = 0;
+};
+
+}  // namespace subsplat

@@ -1,0 +1,131 @@
+#include "pipeline/buffers.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+
+#include "material/splat_kernel.h"
+
+namespace subsplat {
+
+GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+void bindTexture(int unit, GLenum target, GLuint texture, GLuint program, const char* name) {
+  glActiveTexture(GL_TEXTURE0 + unit);
+  glBindTexture(target, texture);
+  glUniform1i(uniform(program, name), unit);
+}
+
+void setLightUniforms(GLuint program, const LightView& view) {
+  const SsLightDesc& l = *view.light;
+  float scale = l.type == SS_LIGHT_SUN ? 1.0f : 1.0f / (4.0f * float(M_PI));  // W -> W/sr
+  glm::vec3 radiant = glm::make_vec3(l.color) * (l.strength * scale);
+  glm::vec3 direction = l.type == SS_LIGHT_POINT ? glm::vec3(0, 0, -1)
+                                                 : glm::normalize(glm::make_vec3(l.direction));
+  float cosHalf = std::cos(0.5f * l.spot_size);
+  glUniformMatrix4fv(uniform(program, "lightViewProj"), 1, GL_FALSE, glm::value_ptr(view.viewProj));
+  glUniform3fv(uniform(program, "lightPosition"), 1, l.position);
+  glUniform3fv(uniform(program, "lightDirection"), 1, glm::value_ptr(direction));
+  glUniform3fv(uniform(program, "lightRadiant"), 1, glm::value_ptr(radiant));
+  glUniform1i(uniform(program, "lightType"), l.type);
+  glUniform1f(uniform(program, "lightCosHalfSpot"), l.type == SS_LIGHT_SPOT ? cosHalf : -2.0f);
+  glUniform1f(uniform(program, "lightSpotSmooth"), (1.0f - cosHalf) * l.spot_blend);
+}
+
+void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
+  glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+  for (const auto& [id, mesh] : scene.meshes()) {
+    glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(mesh.objectToWorld)));
+    glUniformMatrix4fv(uniform(program, "objectToWorld"), 1, GL_FALSE,
+                       glm::value_ptr(mesh.objectToWorld));
+    glUniformMatrix3fv(uniform(program, "normalToWorld"), 1, GL_FALSE, glm::value_ptr(normalToWorld));
+    glUniform1f(uniform(program, "objectIndex"), float(mesh.index));
+    bindTexture(7, GL_TEXTURE_BUFFER, mesh.triangleMaterials.id(), program, "triangleMaterials");
+    glBindVertexArray(mesh.vertexArray.id());
+    glDrawElements(GL_TRIANGLES, GLsizei(3 * mesh.triangleCount), GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+}
+
+void IrradianceBuffer::resize(int resolution) {
+  if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
+  if (resolution == resolution_) return;
+  positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
+  fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
+  normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
+  lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
+  depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
+  framebuffer_ = gl::makeFramebuffer(
+      {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id()}, depth_.id());
+  resolution_ = resolution;
+}
+
+void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, resolution_, resolution_);
+  const float empty[4] = {0, 0, 0, -2}, zero[4] = {0, 0, 0, 0}, far[4] = {1e30f, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, empty);
+  glClearBufferfv(GL_COLOR, 1, zero);
+  glClearBufferfv(GL_COLOR, 2, empty);
+  glClearBufferfv(GL_COLOR, 3, far);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  GLuint p = program_.id();
+  glUseProgram(p);
+  setLightUniforms(p, view);
+  glUniform1i(uniform(p, "resolution"), resolution_);
+  glUniform1f(uniform(p, "orthoTexelArea"), view.orthoTexelArea);
+  glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
+  glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
+  drawMeshes(scene, p, view.viewProj);
+  glDisable(GL_DEPTH_TEST);
+}
+
+glm::vec3 cameraPosition(const SsCameraDesc& camera) {
+  return glm::vec3(glm::inverse(glm::make_mat4(camera.world_to_view))[3]);
+}
+
+glm::vec3 cameraForward(const SsCameraDesc& camera) {
+  return -glm::normalize(glm::vec3(glm::inverse(glm::make_mat4(camera.world_to_view))[2]));
+}
+
+void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
+  glm::vec3 position = cameraPosition(camera), forward = cameraForward(camera);
+  glUniform3fv(uniform(program, "cameraPosition"), 1, glm::value_ptr(position));
+  glUniform3fv(uniform(program, "cameraForward"), 1, glm::value_ptr(forward));
+  glUniform1i(uniform(program, "orthographic"), camera.orthographic);
+}
+
+void SplattingBuffer::resize(int width, int height) {
+  if (!program_) program_ = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag");
+  if (width == width_ && height == height_) return;
+  positionObject_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  normalMaterial_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
+  framebuffer_ = gl::makeFramebuffer({positionObject_.id(), normalMaterial_.id()}, depth_.id());
+  width_ = width;
+  height_ = height;
+}
+
+void SplattingBuffer::render(const Scene& scene) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, width_, height_);
+  const float none[4] = {0, 0, 0, -1};
+  glClearBufferfv(GL_COLOR, 0, none);
+  glClearBufferfv(GL_COLOR, 1, none);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  GLuint p = program_.id();
+  glUseProgram(p);
+  setCameraUniforms(p, scene.camera());
+  glm::mat4 viewProj = glm::make_mat4(scene.camera().view_to_clip) *
+                       glm::make_mat4(scene.camera().world_to_view);
+  drawMeshes(scene, p, viewProj);
+  glDisable(GL_DEPTH_TEST);
+}
+
+}  // namespace subsplat

@@ -1,0 +1,57 @@
+// Buffer generation (paper sec. 4, step 1): the irradiance buffer seen from a
+// light view and the splatting buffer seen from the camera.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "gl/gl.h"
+#include "pipeline/light_views.h"
+#include "scene.h"
+
+namespace subsplat {
+
+// Uniform helpers shared by the passes.
+GLint uniform(GLuint program, const char* name);
+void setLightUniforms(GLuint program, const LightView& view);
+void bindTexture(int unit, GLenum target, GLuint texture, GLuint program, const char* name);
+
+// Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
+void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj);
+
+class IrradianceBuffer {
+ public:
+  void resize(int resolution);
+  void render(const Scene& scene, const LightView& view);
+  int resolution() const { return resolution_; }
+  GLuint positionMaterial() const { return positionMaterial_.id(); }
+  GLuint fluxFootprint() const { return fluxFootprint_.id(); }
+  GLuint normalObject() const { return normalObject_.id(); }
+  GLuint lightDepth() const { return lightDepth_.id(); }
+
+ private:
+  int resolution_ = 0;
+  gl::Program program_;
+  gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depth_;
+  gl::Framebuffer framebuffer_;
+};
+
+class SplattingBuffer {
+ public:
+  void resize(int width, int height);
+  void render(const Scene& scene);
+  GLuint positionObject() const { return positionObject_.id(); }
+  GLuint normalMaterial() const { return normalMaterial_.id(); }
+
+ private:
+  int width_ = 0, height_ = 0;
+  gl::Program program_;
+  gl::Texture positionObject_, normalMaterial_, depth_;
+  gl::Framebuffer framebuffer_;
+};
+
+// Camera position and forward axis from the world-to-view matrix.
+glm::vec3 cameraPosition(const SsCameraDesc& camera);
+glm::vec3 cameraForward(const SsCameraDesc& camera);
+void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
+
+}  // namespace subsplat

@@ -1,0 +1,82 @@
+#include "pipeline/light_views.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace subsplat {
+
+namespace {
+
+glm::vec3 anyPerpendicular(const glm::vec3& d) {
+  return std::abs(d.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+}
+
+float farthestCorner(const glm::vec3& from, const Bounds& b) {
+  float far = 0.0f;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec3 c((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    far = std::max(far, glm::length(c - from));
+  }
+  return far;
+}
+
+LightView perspectiveView(const SsLightDesc& light, const glm::vec3& forward, float tanHalfFov,
+                          const Bounds& all, int resolution) {
+  glm::vec3 position = glm::make_vec3(light.position);
+  float far = std::max(farthestCorner(position, all) * 1.01f, 1e-6f);
+  glm::mat4 view = glm::lookAt(position, position + forward, anyPerpendicular(forward));
+  glm::mat4 proj = glm::perspective(2.0f * std::atan(tanHalfFov), 1.0f, far * 1e-5f, far);
+  LightView v;
+  v.light = &light;
+  v.viewProj = proj * view;
+  v.tanHalfFov = tanHalfFov;
+  v.shadowTexelSize = 2.0f * tanHalfFov / float(resolution);
+  return v;
+}
+
+}  // namespace
+
+std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
+                                  const Bounds& all, int resolution) {
+  std::vector<LightView> views;
+  if (all.empty()) return views;
+  if (light.type == SS_LIGHT_SUN) {
+    // Lateral extent: the translucent objects' bounding sphere, where the
+    // irradiance samples must be dense. Depth: every object, so opaque
+    // objects between the sun and the translucent ones cast shadows.
+    const Bounds& fit = translucent.empty() ? all : translucent;
+    glm::vec3 dir = glm::normalize(glm::make_vec3(light.direction));
+    glm::vec3 center = fit.center();
+    float radius = std::max(fit.radius(), 1e-6f);
+    float distance = glm::length(all.center() - center) + all.radius() + radius + 1e-3f;
+    glm::vec3 eye = center - dir * distance;
+    glm::mat4 view = glm::lookAt(eye, center, anyPerpendicular(dir));
+    float far = 2.0f * distance + 1e-3f;
+    glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, 0.0f, far);
+    LightView v;
+    v.light = &light;
+    v.viewProj = proj * view;
+    float texel = 2.0f * radius / float(resolution);
+    v.orthoTexelArea = texel * texel;
+    v.shadowTexelSize = texel;
+    v.unshadowedOutside = true;
+    views.push_back(v);
+    return views;
+  }
+  constexpr float kSingleViewMaxCone = 150.0f * float(M_PI) / 180.0f;
+  if (light.type == SS_LIGHT_SPOT && light.spot_size <= kSingleViewMaxCone) {
+    glm::vec3 dir = glm::normalize(glm::make_vec3(light.direction));
+    // A little wider than the cone, so the cone's edge is inside the view.
+    float tanHalf = std::tan(std::min(0.5f * light.spot_size * 1.02f + 0.01f, 1.48f));
+    views.push_back(perspectiveView(light, dir, tanHalf, all, resolution));
+    return views;
+  }
+  const glm::vec3 faces[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (const glm::vec3& face : faces) views.push_back(perspectiveView(light, face, 1.0f, all, resolution));
+  return views;
+}
+
+}  // namespace subsplat

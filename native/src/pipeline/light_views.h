@@ -1,0 +1,26 @@
+// The views an irradiance buffer is rendered from: an orthographic frustum
+// fitted to the translucent objects for a sun, the six faces of a cube for a
+// point light, one perspective frustum (or a cube for wide cones) for a spot.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+#include "scene.h"
+
+namespace subsplat {
+
+struct LightView {
+  const SsLightDesc* light = nullptr;
+  glm::mat4 viewProj{1.0f};
+  float tanHalfFov = 1.0f;      // perspective: half-extent of the image plane at distance 1
+  float orthoTexelArea = 0.0f;  // sun: texel area perpendicular to the light
+  float shadowTexelSize = 0.0f; // sun: texel size; perspective: texel size at distance 1
+  bool unshadowedOutside = false;
+};
+
+std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
+                                  const Bounds& all, int resolution);
+
+}  // namespace subsplat

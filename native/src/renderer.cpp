@@ -1,0 +1,137 @@
+#include "renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "util/error.h"
+
+namespace subsplat {
+
+Renderer::Renderer() {
+  if (epoxy_gl_version() < 43)
+    fail(SS_GL_ERROR, "OpenGL 4.3 or newer is required, the current context has " +
+                          std::to_string(epoxy_gl_version() / 10) + "." +
+                          std::to_string(epoxy_gl_version() % 10));
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize_);
+}
+
+void Renderer::setSettings(const SsSettings& s) {
+  require(s.method == SS_METHOD_BRUTE, "unknown method " + std::to_string(s.method));
+  require(s.irradiance_resolution >= 16 && s.irradiance_resolution <= 8192,
+          "irradiance resolution must be in [16, 8192], got " + std::to_string(s.irradiance_resolution));
+  if (s.irradiance_resolution > maxTextureSize_)
+    fail(SS_LIMIT_EXCEEDED, "irradiance resolution " + std::to_string(s.irradiance_resolution) +
+                                " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
+  for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
+  settings_ = s;
+}
+
+void Renderer::uploadMaterials() {
+  scene_.resolveMaterials();
+  if (uploadedMaterialVersion_ == scene_.materialVersion() && materialBuffer_) return;
+  const auto& materials = scene_.denseMaterials();
+  std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
+  int layers = 0;
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const SsMaterialDesc& d = materials[i].desc;
+    MaterialGpu& g = gpu[i];
+    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], float(d.kind)},
+                    {d.eta, d.roughness, d.specular, 0.0f},
+                    {0, 0, 0, 0}};
+    if (materials[i].kernel) {
+      const SplatKernel& k = *materials[i].kernel;
+      g.optics[3] = float(layers++);
+      g.ranges[0] = float(k.supportRadius());
+      g.ranges[1] = float(std::max({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
+    }
+  }
+  materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
+  kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
+                                        std::max(layers, 1), GL_LINEAR);
+  for (const Material& m : materials) {
+    if (!m.kernel) continue;
+    int layer = int(gpu[size_t(&m - materials.data())].optics[3]);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer, SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
+                    GL_RGBA, GL_FLOAT, m.kernel->table().data());
+  }
+  gl::checkErrors("material upload");
+  uploadedMaterialVersion_ = scene_.materialVersion();
+}
+
+void Renderer::render(int width, int height, float* rgba) {
+  auto start = std::chrono::steady_clock::now();
+  require(rgba != nullptr, "output buffer is NULL");
+  require(width > 0 && height > 0, "render size must be positive, got " + std::to_string(width) +
+                                       " x " + std::to_string(height));
+  if (width > maxTextureSize_ || height > maxTextureSize_)
+    fail(SS_LIMIT_EXCEEDED, "render size " + std::to_string(width) + " x " + std::to_string(height) +
+                                " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
+  if (!scene_.hasCamera()) fail(SS_INVALID_ARGUMENT, "no camera was set");
+  gl::StateGuard guard;
+  while (glGetError() != GL_NO_ERROR) {  // errors left by the host are not ours
+  }
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+
+  uploadMaterials();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, materialBuffer_.id());
+  irradiance_.resize(settings_.irradiance_resolution);
+  splatting_.resize(width, height);
+  splats_.resize(width, height);
+  shading_.resize(width, height);
+  gl::checkErrors("buffer allocation");
+
+  stats_ = SsStats{};
+  StageProfiler profiler;
+  profiler.begin(SS_STAGE_BUFFERS);
+  splatting_.render(scene_);
+  profiler.end();
+  splats_.clear();
+  shading_.clear();
+  gl::checkErrors("splatting buffer");
+
+  Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
+  int res = irradiance_.resolution();
+  for (const SsLightDesc& light : scene_.lights()) {
+    for (const LightView& view : lightViews(light, translucent, all, res)) {
+      profiler.begin(SS_STAGE_BUFFERS);
+      irradiance_.render(scene_, view);
+      profiler.end();
+      if (!translucent.empty()) {
+        profiler.begin(SS_STAGE_SPLATTING);
+        stats_.splat_count += splats_.splatLevel(scene_, irradiance_, splatting_, kernelTable_.id());
+        profiler.end();
+      }
+      profiler.begin(SS_STAGE_SHADING);
+      shading_.directLighting(scene_, view, irradiance_, splatting_);
+      profiler.end();
+      ++stats_.light_views;
+      gl::checkErrors("light view");
+    }
+  }
+  profiler.begin(SS_STAGE_SHADING);
+  shading_.finalShading(scene_, splatting_, splats_.exitance(), settings_.background);
+  profiler.end();
+
+  profiler.begin(SS_STAGE_READBACK);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, shading_.resultFramebuffer());
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
+  profiler.end();
+  gl::checkErrors("read-back");
+  profiler.collect(stats_);
+  stats_.width = width;
+  stats_.height = height;
+  stats_.frame_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace subsplat

@@ -1,0 +1,35 @@
+// One frame: buffer generation, splatting, shading, read-back.
+#pragma once
+
+#include "pipeline/buffers.h"
+#include "pipeline/splatting.h"
+#include "pipeline/stage_profiler.h"
+#include "scene.h"
+
+namespace subsplat {
+
+class Renderer {
+ public:
+  Renderer();
+  Scene& scene() { return scene_; }
+  void setSettings(const SsSettings& settings);
+  void render(int width, int height, float* rgba);
+  const SsStats& stats() const { return stats_; }
+
+ private:
+  void uploadMaterials();
+
+  Scene scene_;
+  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}};
+  SsStats stats_{};
+  IrradianceBuffer irradiance_;
+  SplattingBuffer splatting_;
+  Splatting splats_;
+  Shading shading_;
+  gl::Buffer materialBuffer_;
+  gl::Texture kernelTable_;
+  uint64_t uploadedMaterialVersion_ = ~0ull;
+  GLint maxTextureSize_ = 0;
+};
+
+}  // namespace subsplat

@@ -1,0 +1,104 @@
+// Whole frames through the C API in a surfaceless EGL context.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "material/dipole.h"
+#include "material/splat_kernel.h"
+#include "scene.h"
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+#include "testing/scenes.h"
+
+namespace subsplat {
+namespace {
+
+struct Frame {
+  int width, height;
+  std::vector<float> rgba;
+  // Mean of channel c over the centred square covering `fraction` of each side.
+  double centreMean(int c, double fraction) const {
+    int x0 = int(width * (1 - fraction) / 2), x1 = width - x0;
+    int y0 = int(height * (1 - fraction) / 2), y1 = height - y0;
+    double sum = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) sum += rgba[(size_t(y) * width + x) * 4 + c];
+    return sum / double((x1 - x0) * (y1 - y0));
+  }
+};
+
+class Render : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
+  void TearDown() override { ssReleaseContext(context); }
+  Frame render(int size) {
+    Frame f{size, size, std::vector<float>(size_t(size) * size * 4)};
+    EXPECT_EQ(ssRender(context, size, size, f.rgba.data()), SS_OK) << ssGetLastError();
+    return f;
+  }
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  testing::Quad quad;
+};
+
+// A wide slab of marble under a sun: far from the edges the radiant exitance
+// is E * Rd_total (DESIGN.md), so the radiance seen from straight above is
+// F_t(0) / pi * E_sun cos(theta) F_t(theta) * Rd_total.
+TEST_F(Render, PlaneExitanceMatchesDipoleTotalReflectance) {
+  const float mmPerUnit = 200.0f;  // support radius ~0.2 units, slab half-width 2
+  SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsSettings settings{SS_METHOD_BRUTE, 256, {0, 0, 0, 0}};
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+  for (float incidence : {0.0f, 60.0f}) {
+    SsLightDesc sun = testing::sunLight(3.0f, incidence);
+    ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+    Frame frame = render(64);
+    double cosTheta = std::cos(incidence * M_PI / 180.0);
+    for (int c = 0; c < 3; ++c) {
+      double rdTotal = Dipole({marble.sigma_a[c], marble.sigma_s_prime[c], marble.eta}).totalReflectance();
+      double expected = fresnelTransmittance(marble.eta, 1.0) / M_PI * 3.0 * cosTheta *
+                        fresnelTransmittance(marble.eta, cosTheta) * rdTotal;
+      EXPECT_NEAR(frame.centreMean(c, 0.5) / expected, 1.0, 0.03)
+          << "channel " << c << " incidence " << incidence;
+    }
+  }
+  SsStats stats{};
+  ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
+  EXPECT_GT(stats.splat_count, 0u);
+  EXPECT_EQ(stats.light_views, 1);
+}
+
+TEST_F(Render, OpaqueLambertianPlaneUnderSunIsAlbedoOverPiTimesIrradiance) {
+  SsMaterialDesc grey{};
+  grey.kind = SS_MATERIAL_OPAQUE;
+  grey.base_color[0] = grey.base_color[1] = grey.base_color[2] = 0.5f;
+  grey.roughness = 1.0f;
+  ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
+  SsMeshDesc plane = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &plane), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(1.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(2.0f, 45.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  Frame frame = render(32);
+  EXPECT_NEAR(frame.centreMean(0, 0.8), 0.5 / M_PI * 2.0 * std::cos(M_PI / 4), 1e-4);
+}
+
+TEST_F(Render, BackgroundWhereNothingIsHit) {
+  SsCameraDesc camera = testing::topDownCamera(1.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsSettings settings{SS_METHOD_BRUTE, 64, {0.1f, 0.2f, 0.3f, 1.0f}};
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+  Frame frame = render(8);
+  EXPECT_FLOAT_EQ(frame.rgba[2], 0.3f);
+  EXPECT_FLOAT_EQ(frame.rgba[3], 1.0f);
+}
+
+}  // namespace
+}  // namespace subsplat

@@ -1,0 +1,237 @@
+#include "scene.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <cstring>
+
+#include "util/error.h"
+
+namespace subsplat {
+
+namespace {
+
+bool finite(const float* v, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+std::string vec3String(const float* v) {
+  return "(" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) + ")";
+}
+
+}  // namespace
+
+void validateMaterial(const SsMaterialDesc& m) {
+  require(m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_DIPOLE,
+          "material kind " + std::to_string(m.kind) + " is not OPAQUE or DIPOLE");
+  require(finite(m.base_color, 3) && m.base_color[0] >= 0 && m.base_color[1] >= 0 &&
+              m.base_color[2] >= 0,
+          "base colour must be finite and non-negative, got " + vec3String(m.base_color));
+  require(std::isfinite(m.roughness) && m.roughness >= 0 && m.roughness <= 1,
+          "roughness must be in [0, 1], got " + std::to_string(m.roughness));
+  require(std::isfinite(m.specular) && m.specular >= 0 && m.specular <= 1,
+          "specular must be in [0, 1], got " + std::to_string(m.specular));
+  if (m.kind != SS_MATERIAL_DIPOLE) return;
+  require(finite(m.sigma_a, 3), "sigma_a must be finite, got " + vec3String(m.sigma_a));
+  require(finite(m.sigma_s_prime, 3),
+          "sigma_s' must be finite, got " + vec3String(m.sigma_s_prime));
+  for (int c = 0; c < 3; ++c) {
+    require(m.sigma_a[c] > 0 && m.sigma_a[c] <= 1e4,
+            "sigma_a must be in (0, 1e4] per mm, got " + vec3String(m.sigma_a));
+    require(m.sigma_s_prime[c] >= 0 && m.sigma_s_prime[c] <= 1e4,
+            "sigma_s' must be in [0, 1e4] per mm, got " + vec3String(m.sigma_s_prime));
+  }
+  require(std::isfinite(m.eta) && m.eta >= 1.0f && m.eta <= 3.0f,
+          "eta must be in [1, 3], got " + std::to_string(m.eta));
+  require(std::isfinite(m.mm_per_unit) && m.mm_per_unit >= 1e-6f && m.mm_per_unit <= 1e9f,
+          "mm_per_unit must be in [1e-6, 1e9], got " + std::to_string(m.mm_per_unit));
+}
+
+DipoleMaterial dipoleMaterial(const SsMaterialDesc& d) {
+  DipoleMaterial m;
+  for (int c = 0; c < 3; ++c) m.channels[c] = {d.sigma_a[c], d.sigma_s_prime[c], d.eta};
+  m.mmPerUnit = d.mm_per_unit;
+  return m;
+}
+
+void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc) {
+  validateMaterial(desc);
+  Material m;
+  m.desc = desc;
+  if (desc.kind == SS_MATERIAL_DIPOLE) {
+    // Rebuild the kernel table only when the dipole itself changed.
+    auto it = materials_.find(id);
+    bool same = it != materials_.end() && it->second.kernel &&
+                std::memcmp(it->second.desc.sigma_a, desc.sigma_a, sizeof desc.sigma_a) == 0 &&
+                std::memcmp(it->second.desc.sigma_s_prime, desc.sigma_s_prime,
+                            sizeof desc.sigma_s_prime) == 0 &&
+                it->second.desc.eta == desc.eta && it->second.desc.mm_per_unit == desc.mm_per_unit;
+    m.kernel = same ? it->second.kernel
+                    : std::make_shared<const SplatKernel>(dipoleMaterial(desc));
+  }
+  materials_[id] = std::move(m);
+  ++materialVersion_;
+}
+
+void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
+  require(d.positions != nullptr, "mesh " + std::to_string(objectId) + ": positions is NULL");
+  require(d.indices != nullptr, "mesh " + std::to_string(objectId) + ": indices is NULL");
+  require(d.vertex_count > 0 && d.triangle_count > 0,
+          "mesh " + std::to_string(objectId) + " is empty (" + std::to_string(d.vertex_count) +
+              " vertices, " + std::to_string(d.triangle_count) + " triangles)");
+  require(d.vertex_count <= (1u << 28) && d.triangle_count <= (1u << 28),
+          "mesh " + std::to_string(objectId) + " exceeds 2^28 vertices or triangles");
+  require(finite(d.object_to_world, 16),
+          "mesh " + std::to_string(objectId) + ": object_to_world is not finite");
+  std::string name = "mesh " + std::to_string(objectId);
+  for (uint32_t v = 0; v < d.vertex_count; ++v)
+    if (!finite(d.positions + 3 * size_t(v), 3))
+      fail(SS_INVALID_ARGUMENT, name + ": vertex " + std::to_string(v) +
+                                    " has a non-finite position " + vec3String(d.positions + 3 * size_t(v)));
+  for (size_t i = 0; i < 3 * size_t(d.triangle_count); ++i)
+    if (d.indices[i] >= d.vertex_count)
+      fail(SS_INVALID_ARGUMENT, name + ": index " + std::to_string(d.indices[i]) + " at " +
+                                    std::to_string(i) + " is out of range (" +
+                                    std::to_string(d.vertex_count) + " vertices)");
+
+  // Normals: the caller's where finite and non-zero, else area-weighted.
+  std::vector<glm::vec3> normals(d.vertex_count, glm::vec3(0.0f));
+  const glm::vec3* p = reinterpret_cast<const glm::vec3*>(d.positions);
+  bool recompute = d.normals == nullptr;
+  if (!recompute) {
+    for (uint32_t v = 0; v < d.vertex_count && !recompute; ++v) {
+      glm::vec3 n = glm::make_vec3(d.normals + 3 * size_t(v));
+      recompute = !finite(d.normals + 3 * size_t(v), 3) || glm::dot(n, n) < 1e-12f;
+      normals[v] = n;
+    }
+  }
+  if (recompute) {
+    std::fill(normals.begin(), normals.end(), glm::vec3(0.0f));
+    for (uint32_t t = 0; t < d.triangle_count; ++t) {
+      const uint32_t* i = d.indices + 3 * size_t(t);
+      glm::vec3 n = glm::cross(p[i[1]] - p[i[0]], p[i[2]] - p[i[0]]);
+      for (int k = 0; k < 3; ++k) normals[i[k]] += n;
+    }
+    for (glm::vec3& n : normals) n = glm::dot(n, n) > 0 ? glm::normalize(n) : glm::vec3(0, 0, 1);
+  }
+
+  Mesh mesh;
+  auto existing = meshes_.find(objectId);
+  mesh.index = existing != meshes_.end() ? existing->second.index : nextMeshIndex_++;
+  mesh.objectToWorld = glm::make_mat4(d.object_to_world);
+  mesh.triangleCount = d.triangle_count;
+  mesh.materialIds.assign(d.triangle_count, d.default_material);
+  if (d.triangle_materials)
+    mesh.materialIds.assign(d.triangle_materials, d.triangle_materials + d.triangle_count);
+  for (uint32_t v = 0; v < d.vertex_count; ++v)
+    mesh.worldBounds.extend(glm::vec3(mesh.objectToWorld * glm::vec4(p[v], 1.0f)));
+  require(glm::all(glm::lessThan(glm::abs(mesh.worldBounds.lo), glm::vec3(1e15f))) &&
+              glm::all(glm::lessThan(glm::abs(mesh.worldBounds.hi), glm::vec3(1e15f))),
+          name + ": world-space bounds are not finite");
+
+  mesh.vertexArray = gl::makeVertexArray();
+  glBindVertexArray(mesh.vertexArray.id());
+  mesh.positions = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(float) * 3 * d.vertex_count, d.positions);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  mesh.normals = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(glm::vec3) * d.vertex_count, normals.data());
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(1);
+  mesh.indices = gl::makeBuffer(GL_ELEMENT_ARRAY_BUFFER, sizeof(uint32_t) * 3 * d.triangle_count,
+                                d.indices);
+  glBindVertexArray(0);
+  mesh.triangleMaterialBuffer =
+      gl::makeBuffer(GL_TEXTURE_BUFFER, sizeof(uint32_t) * d.triangle_count, nullptr, GL_DYNAMIC_DRAW);
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+  mesh.triangleMaterials = gl::Texture(texture);
+  glBindTexture(GL_TEXTURE_BUFFER, texture);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, mesh.triangleMaterialBuffer.id());
+  gl::checkErrors("mesh upload");
+  meshes_[objectId] = std::move(mesh);
+  resolvedVersion_ = ~0ull;
+}
+
+void Scene::removeMesh(uint32_t objectId) {
+  require(meshes_.erase(objectId) == 1, "no mesh with object id " + std::to_string(objectId));
+}
+
+void Scene::clear() {
+  meshes_.clear();
+  materials_.clear();
+  dense_.clear();
+  denseIndex_.clear();
+  lights_.clear();
+  hasCamera_ = false;
+  ++materialVersion_;
+}
+
+void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
+  require(count == 0 || lights != nullptr, "lights is NULL with a count of " + std::to_string(count));
+  require(count <= 256, "at most 256 lights are supported, got " + std::to_string(count));
+  std::vector<SsLightDesc> list(lights, lights + count);
+  for (uint32_t i = 0; i < count; ++i) {
+    const SsLightDesc& l = list[i];
+    std::string name = "light " + std::to_string(i);
+    require(l.type == SS_LIGHT_POINT || l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN,
+            name + ": unknown type " + std::to_string(l.type));
+    require(finite(l.color, 3) && finite(l.position, 3) && finite(l.direction, 3) &&
+                std::isfinite(l.strength) && std::isfinite(l.spot_size) && std::isfinite(l.spot_blend),
+            name + ": non-finite parameter");
+    require(l.strength >= 0 && l.color[0] >= 0 && l.color[1] >= 0 && l.color[2] >= 0,
+            name + ": negative strength or colour");
+    if (l.type != SS_LIGHT_POINT)
+      require(glm::length(glm::make_vec3(l.direction)) > 1e-12f, name + ": zero direction");
+    if (l.type == SS_LIGHT_SPOT)
+      require(l.spot_size > 0 && l.spot_size <= float(M_PI) && l.spot_blend >= 0 && l.spot_blend <= 1,
+              name + ": spot size must be in (0, pi] and blend in [0, 1]");
+  }
+  lights_ = std::move(list);
+}
+
+void Scene::setCamera(const SsCameraDesc& camera) {
+  require(finite(camera.world_to_view, 16) && finite(camera.view_to_clip, 16),
+          "camera matrices must be finite");
+  glm::mat4 v = glm::make_mat4(camera.world_to_view), p = glm::make_mat4(camera.view_to_clip);
+  require(std::abs(glm::determinant(v)) > 1e-20f && std::abs(glm::determinant(p)) > 1e-30f,
+          "camera matrices must be invertible");
+  camera_ = camera;
+  hasCamera_ = true;
+}
+
+void Scene::resolveMaterials() {
+  if (resolvedVersion_ == materialVersion_) return;
+  dense_.clear();
+  denseIndex_.clear();
+  for (const auto& [id, material] : materials_) {
+    denseIndex_[id] = int(dense_.size());
+    dense_.push_back(material);
+  }
+  for (auto& [objectId, mesh] : meshes_) {
+    std::vector<uint32_t> dense(mesh.materialIds.size());
+    mesh.translucent = false;
+    for (size_t t = 0; t < dense.size(); ++t) {
+      auto it = denseIndex_.find(mesh.materialIds[t]);
+      if (it == denseIndex_.end())
+        fail(SS_INVALID_ARGUMENT, "mesh " + std::to_string(objectId) + " uses material " +
+                                      std::to_string(mesh.materialIds[t]) + ", which was never set");
+      dense[t] = uint32_t(it->second);
+      mesh.translucent |= dense_[it->second].desc.kind == SS_MATERIAL_DIPOLE;
+    }
+    glBindBuffer(GL_TEXTURE_BUFFER, mesh.triangleMaterialBuffer.id());
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, GLsizeiptr(dense.size() * sizeof(uint32_t)), dense.data());
+  }
+  gl::checkErrors("material resolution");
+  resolvedVersion_ = materialVersion_;
+}
+
+Bounds Scene::bounds(bool translucentOnly) const {
+  Bounds b;
+  for (const auto& [id, mesh] : meshes_)
+    if (!translucentOnly || mesh.translucent) b.extend(mesh.worldBounds);
+  return b;
+}
+
+}  // namespace subsplat

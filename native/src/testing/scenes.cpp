@@ -1,0 +1,58 @@
+#include "testing/scenes.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <cstring>
+
+namespace subsplat::testing {
+
+SsMeshDesc Quad::desc(float halfSize, uint32_t material) const {
+  SsMeshDesc d{};
+  d.positions = positions.data();
+  d.normals = normals.data();
+  d.vertex_count = 4;
+  d.indices = indices.data();
+  d.triangle_count = 2;
+  d.default_material = material;
+  glm::mat4 m = glm::scale(glm::mat4(1.0f), glm::vec3(halfSize, halfSize, 1.0f));
+  std::memcpy(d.object_to_world, glm::value_ptr(m), sizeof d.object_to_world);
+  return d;
+}
+
+SsMaterialDesc marbleMaterial(float mmPerUnit) {
+  SsMaterialDesc m{};
+  m.kind = SS_MATERIAL_DIPOLE;
+  const float sa[3] = {0.0021f, 0.0041f, 0.0071f}, ss[3] = {2.19f, 2.62f, 3.00f};
+  std::memcpy(m.sigma_a, sa, sizeof sa);
+  std::memcpy(m.sigma_s_prime, ss, sizeof ss);
+  m.eta = 1.3f;
+  m.mm_per_unit = mmPerUnit;
+  m.roughness = 0.5f;
+  m.specular = 0.0f;
+  return m;
+}
+
+SsCameraDesc topDownCamera(float halfWidth) {
+  SsCameraDesc c{};
+  glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+  glm::mat4 proj = glm::ortho(-halfWidth, halfWidth, -halfWidth, halfWidth, 0.1f, 20.0f);
+  std::memcpy(c.world_to_view, glm::value_ptr(view), sizeof c.world_to_view);
+  std::memcpy(c.view_to_clip, glm::value_ptr(proj), sizeof c.view_to_clip);
+  c.orthographic = 1;
+  return c;
+}
+
+SsLightDesc sunLight(float strength, float incidenceDegrees) {
+  SsLightDesc l{};
+  l.type = SS_LIGHT_SUN;
+  l.color[0] = l.color[1] = l.color[2] = 1.0f;
+  l.strength = strength;
+  float t = incidenceDegrees * float(M_PI) / 180.0f;
+  l.direction[0] = std::sin(t);
+  l.direction[2] = -std::cos(t);
+  return l;
+}
+
+}  // namespace subsplat::testing
