@@ -180,6 +180,12 @@ StateGuard::StateGuard() {
   glGetBooleanv(GL_COLOR_WRITEMASK, colorMask_);
   glGetFloatv(GL_COLOR_CLEAR_VALUE, clearColor_);
   glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clearDepth_);
+  glGetFloatv(GL_DEPTH_RANGE, depthRange_);
+  glGetIntegerv(GL_CLIP_ORIGIN, &clipOrigin_);
+  glGetIntegerv(GL_CLIP_DEPTH_MODE, &clipDepth_);
+  glGetIntegerv(GL_POLYGON_MODE, polygonMode_);
+  depthClamp_ = glIsEnabled(GL_DEPTH_CLAMP);
+  polygonOffsetFill_ = glIsEnabled(GL_POLYGON_OFFSET_FILL);
   blend_ = glIsEnabled(GL_BLEND);
   depthTest_ = glIsEnabled(GL_DEPTH_TEST);
   cullFace_ = glIsEnabled(GL_CULL_FACE);
@@ -223,6 +229,11 @@ StateGuard::~StateGuard() {
   glColorMask(colorMask_[0], colorMask_[1], colorMask_[2], colorMask_[3]);
   glClearColor(clearColor_[0], clearColor_[1], clearColor_[2], clearColor_[3]);
   glClearDepth(clearDepth_);
+  glDepthRange(depthRange_[0], depthRange_[1]);
+  glClipControl(GLenum(clipOrigin_), GLenum(clipDepth_));
+  glPolygonMode(GL_FRONT_AND_BACK, GLenum(polygonMode_[0]));
+  setEnabled(GL_DEPTH_CLAMP, depthClamp_);
+  setEnabled(GL_POLYGON_OFFSET_FILL, polygonOffsetFill_);
   setEnabled(GL_BLEND, blend_);
   setEnabled(GL_DEPTH_TEST, depthTest_);
   setEnabled(GL_CULL_FACE, cullFace_);

@@ -68,10 +68,10 @@ void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
   glClearBufferfv(GL_COLOR, 1, zero);
   glClearBufferfv(GL_COLOR, 2, empty);
   glClearBufferfv(GL_COLOR, 3, far);
+  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
   glClear(GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
   GLuint p = program_.id();
   glUseProgram(p);
   setLightUniforms(p, view);
@@ -115,10 +115,10 @@ void SplattingBuffer::render(const Scene& scene) {
   const float none[4] = {0, 0, 0, -1};
   glClearBufferfv(GL_COLOR, 0, none);
   glClearBufferfv(GL_COLOR, 1, none);
+  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
   glClear(GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
   GLuint p = program_.id();
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());

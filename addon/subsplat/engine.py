@@ -1,0 +1,120 @@
+"""The SubSplat RenderEngine: a thin layer that exports the frame and forwards it to the library."""
+import sys
+import time
+
+import bpy
+
+from . import export, native
+from .properties import METHOD_ITEMS
+
+_last_stats = {}
+_last_error = None
+
+
+def last_render_stats():
+    """Figures of the last SubSplat render, as a plain dict (a copy)."""
+    return {key: (dict(value) if isinstance(value, dict) else value) for key, value in _last_stats.items()}
+
+
+def last_render_error():
+    """The message of the last failed render, or None."""
+    return _last_error
+
+
+class SubsplatRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "SUBSPLAT"
+    bl_label = "SubSplat"
+    bl_use_gpu_context = True
+    bl_use_shading_nodes_custom = False
+    bl_use_preview = False
+
+    def __init__(self):
+        self._context = None
+
+    def __del__(self):
+        # Native GL objects belong to the render GL context, which is not
+        # current here; the context is released at the end of render().
+        self._context = None
+
+    def render(self, depsgraph):
+        global _last_error
+        scene = depsgraph.scene
+        scale = scene.render.resolution_percentage / 100.0
+        width = max(int(scene.render.resolution_x * scale), 1)
+        height = max(int(scene.render.resolution_y * scale), 1)
+        try:
+            self._render(depsgraph, width, height)
+            _last_error = None
+        except (native.SubsplatError, export.ExportError) as error:
+            _last_error = str(error)
+            self._fail(f"SubSplat: {error}")
+        finally:
+            if self._context is not None:
+                try:
+                    self._context.release()
+                except native.SubsplatError:
+                    pass
+                self._context = None
+
+    def _render(self, depsgraph, width, height):
+        scene = depsgraph.scene
+        settings = scene.subsplat
+        self.update_stats("", "SubSplat: exporting scene")
+        start = time.perf_counter()
+        frame = export.export_frame(depsgraph, width, height)
+        export_ms = (time.perf_counter() - start) * 1e3
+        for warning in frame.warnings:
+            self.report({"WARNING"}, f"SubSplat: {warning}")
+
+        self._context = native.Context()
+        context = self._context
+        for material_id, desc in frame.materials.values():
+            context.set_material(material_id, desc)
+        for object_id, (name, positions, normals, triangles, materials, matrix) in enumerate(frame.meshes):
+            try:
+                context.set_mesh(object_id, positions, normals, triangles, materials, matrix)
+            except native.SubsplatError as error:
+                raise native.SubsplatError(f"object '{name}': {error}") from error
+        context.set_lights(frame.lights)
+        context.set_camera(frame.camera)
+        native_settings = native.Settings()
+        native_settings.method = native.METHODS[settings.method]
+        native_settings.irradiance_resolution = settings.irradiance_resolution
+        native_settings.background = native.Float4(*export.background(scene))
+        context.set_settings(native_settings)
+
+        self.update_stats("", "SubSplat: rendering")
+        pixels = context.render(width, height)
+        stats = context.stats()
+        stats.update(method=settings.method, export_ms=export_ms, meshes=len(frame.meshes),
+                     lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution)
+        _last_stats.clear()
+        _last_stats.update(stats)
+
+        result = self.begin_result(0, 0, width, height)
+        result.layers[0].passes["Combined"].rect = pixels.reshape(-1, 4)
+        self.end_result(result)
+        label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
+        self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} splats")
+
+    def _fail(self, message):
+        self.report({"ERROR"}, message)
+        print(message, file=sys.stderr, flush=True)
+        if bpy.app.background and exit_on_error:
+            # `blender -b ... -f N` exits 0 after a failed render unless told
+            # otherwise; a farm must see the failure. SystemExit raised here
+            # ends Blender with this status.
+            sys.exit(1)
+
+
+# Scripts that render in background mode and want to handle failures
+# themselves (tests) set subsplat.engine.exit_on_error = False.
+exit_on_error = True
+
+
+def register():
+    bpy.utils.register_class(SubsplatRenderEngine)
+
+
+def unregister():
+    bpy.utils.unregister_class(SubsplatRenderEngine)

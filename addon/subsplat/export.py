@@ -1,0 +1,197 @@
+"""Depsgraph to arrays: the evaluated (deformed) meshes, materials, lights and camera of one frame."""
+import bpy
+import numpy as np
+
+from . import native
+
+BLENDER_4 = bpy.app.version >= (4, 0, 0)
+# Principled BSDF inputs that were renamed in 4.0.
+SPECULAR_INPUT = "Specular IOR Level" if BLENDER_4 else "Specular"
+
+
+class ExportError(RuntimeError):
+    """Scene data the engine cannot render; the message names the object or material."""
+
+
+def column_major(matrix):
+    """A mathutils 4x4 Matrix as 16 floats, column-major (OpenGL order)."""
+    return [matrix[row][col] for col in range(4) for row in range(4)]
+
+
+def _principled(material):
+    if not material.use_nodes or material.node_tree is None:
+        return None
+    for node in material.node_tree.nodes:
+        if node.type == "OUTPUT_MATERIAL" and node.is_active_output:
+            link = node.inputs["Surface"].links
+            if link and link[0].from_node.type == "BSDF_PRINCIPLED":
+                return link[0].from_node
+    return next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+
+
+def material_desc(material):
+    """The native description of a Blender material (None: the default grey)."""
+    desc = native.MaterialDesc()
+    if material is None:
+        desc.kind = native.MATERIAL_OPAQUE
+        desc.base_color = native.Float3(0.8, 0.8, 0.8)
+        desc.roughness, desc.specular = 0.5, 0.5
+        return desc
+    settings = material.subsplat
+    if settings.enabled:
+        desc.kind = native.MATERIAL_DIPOLE
+        desc.sigma_a = native.Float3(*settings.sigma_a)
+        desc.sigma_s_prime = native.Float3(*settings.sigma_s_prime)
+        desc.eta = settings.eta
+        desc.mm_per_unit = settings.mm_per_unit
+        desc.roughness = settings.roughness
+        desc.specular = settings.specular
+        return desc
+    desc.kind = native.MATERIAL_OPAQUE
+    node = _principled(material)
+    if node is not None:
+        desc.base_color = native.Float3(*node.inputs["Base Color"].default_value[:3])
+        desc.roughness = node.inputs["Roughness"].default_value
+        desc.specular = min(max(node.inputs[SPECULAR_INPUT].default_value, 0.0), 1.0)
+    else:
+        desc.base_color = native.Float3(*material.diffuse_color[:3])
+        desc.roughness = material.roughness
+        desc.specular = material.specular_intensity
+    return desc
+
+
+def _corner_normals(mesh):
+    normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+    if BLENDER_4:
+        mesh.corner_normals.foreach_get("vector", normals)
+    else:
+        mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", normals)
+    return normals.reshape(-1, 3)
+
+
+def mesh_arrays(mesh):
+    """Per-corner positions and normals, triangle corner indices, per-triangle material slots."""
+    mesh.calc_loop_triangles()
+    vertices = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", vertices)
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.uint32)
+    mesh.loop_triangles.foreach_get("loops", triangles)
+    slots = np.empty(len(mesh.loop_triangles), dtype=np.uint32)
+    mesh.loop_triangles.foreach_get("material_index", slots)
+    positions = vertices.reshape(-1, 3)[loop_vertex]
+    return positions, _corner_normals(mesh), triangles.reshape(-1, 3), slots
+
+
+class Frame:
+    """What one frame sends to the native context."""
+
+    def __init__(self):
+        self.materials = {}   # name -> (material id, MaterialDesc)
+        self.meshes = []      # (object name, positions, normals, triangles, triangle materials, matrix)
+        self.lights = []
+        self.warnings = []
+        self.camera = None
+
+    def material_id(self, material):
+        key = material.name_full if material is not None else ""
+        if key not in self.materials:
+            try:
+                desc = material_desc(material)
+            except (KeyError, AttributeError) as error:
+                raise ExportError(f"material '{key}': cannot read its settings ({error})") from error
+            self.materials[key] = (len(self.materials), desc)
+        return self.materials[key][0]
+
+
+def _light_desc(obj, matrix, frame):
+    light = obj.data
+    desc = native.LightDesc()
+    desc.color = native.Float3(*light.color)
+    desc.position = native.Float3(*matrix.translation)
+    axis = -matrix.col[2].xyz  # lights shine down their local -Z
+    desc.direction = native.Float3(*axis.normalized()) if axis.length > 0 else native.Float3(0, 0, -1)
+    if light.type == "SUN":
+        desc.type = native.LIGHT_SUN
+        desc.strength = light.energy
+    elif light.type == "SPOT":
+        desc.type = native.LIGHT_SPOT
+        desc.strength = light.energy
+        desc.spot_size = light.spot_size
+        desc.spot_blend = light.spot_blend
+    else:
+        if light.type == "AREA":
+            frame.warnings.append(f"light '{obj.name}': area lights are rendered as point lights")
+        desc.type = native.LIGHT_POINT
+        desc.strength = light.energy
+    return desc
+
+
+def camera_desc(scene, depsgraph, width, height):
+    camera = scene.camera
+    if camera is None:
+        raise ExportError("the scene has no camera")
+    camera = camera.evaluated_get(depsgraph)
+    render = scene.render
+    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height,
+                                           scale_x=render.pixel_aspect_x, scale_y=render.pixel_aspect_y)
+    desc = native.CameraDesc()
+    desc.world_to_view = native.Float16(*column_major(camera.matrix_world.inverted_safe()))
+    desc.view_to_clip = native.Float16(*column_major(projection))
+    desc.orthographic = 1 if camera.data.type == "ORTHO" else 0
+    return desc
+
+
+def export_frame(depsgraph, width, height):
+    """Every visible mesh instance, its materials, the lights and the camera."""
+    scene = depsgraph.scene
+    frame = Frame()
+    frame.camera = camera_desc(scene, depsgraph, width, height)
+    for instance in depsgraph.object_instances:
+        obj = instance.object
+        if obj.type == "LIGHT":
+            frame.lights.append(_light_desc(obj, instance.matrix_world, frame))
+            continue
+        if obj.type not in {"MESH", "CURVE", "SURFACE", "META", "FONT"}:
+            continue
+        if not obj.visible_camera:
+            continue
+        try:
+            mesh = obj.to_mesh()
+        except RuntimeError:
+            mesh = None
+        if mesh is None:
+            continue
+        try:
+            if len(mesh.polygons) == 0:
+                continue
+            positions, normals, triangles, slots = mesh_arrays(mesh)
+            if len(triangles) == 0:
+                continue
+            slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \
+                [frame.material_id(None)]
+            lookup = np.asarray(slot_materials, dtype=np.uint32)
+            triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
+            frame.meshes.append((obj.name, positions, normals, triangles, triangle_materials,
+                                 column_major(instance.matrix_world)))
+        finally:
+            obj.to_mesh_clear()
+    return frame
+
+
+def background(scene):
+    """RGBA written where no object is hit: transparent, or the world colour."""
+    if scene.render.film_transparent:
+        return (0.0, 0.0, 0.0, 0.0)
+    world = scene.world
+    if world is None:
+        return (0.0, 0.0, 0.0, 1.0)
+    if world.use_nodes and world.node_tree is not None:
+        node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+        if node is not None:
+            color = node.inputs["Color"].default_value
+            strength = node.inputs["Strength"].default_value
+            return (color[0] * strength, color[1] * strength, color[2] * strength, 1.0)
+    return (*world.color, 1.0)

@@ -1,0 +1,195 @@
+"""ctypes binding of libsubsplat (native/include/subsplat/subsplat.h), and nothing else.
+
+Every call checks the status and raises SubsplatError with the library's
+message, so the engine can show it to the user.
+"""
+import ctypes
+import os
+
+import numpy as np
+
+API_VERSION = 1
+STAGES = ("buffers", "splatting", "shading", "readback")
+METHODS = {"BRUTE": 0}
+LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
+MATERIAL_OPAQUE, MATERIAL_DIPOLE = 0, 1
+
+_STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
+           5: "limit exceeded", 6: "internal error"}
+
+Float3 = ctypes.c_float * 3
+Float4 = ctypes.c_float * 4
+Float16 = ctypes.c_float * 16
+
+
+class SubsplatError(RuntimeError):
+    """A failed library call; str() is the library's message."""
+
+
+class MeshDesc(ctypes.Structure):
+    _fields_ = [("positions", ctypes.POINTER(ctypes.c_float)),
+                ("normals", ctypes.POINTER(ctypes.c_float)),
+                ("uvs", ctypes.POINTER(ctypes.c_float)),
+                ("vertex_count", ctypes.c_uint32),
+                ("indices", ctypes.POINTER(ctypes.c_uint32)),
+                ("triangle_materials", ctypes.POINTER(ctypes.c_uint32)),
+                ("triangle_count", ctypes.c_uint32),
+                ("default_material", ctypes.c_uint32),
+                ("object_to_world", Float16)]
+
+
+class MaterialDesc(ctypes.Structure):
+    _fields_ = [("kind", ctypes.c_int32), ("base_color", Float3), ("sigma_a", Float3),
+                ("sigma_s_prime", Float3), ("eta", ctypes.c_float), ("mm_per_unit", ctypes.c_float),
+                ("roughness", ctypes.c_float), ("specular", ctypes.c_float)]
+
+
+class LightDesc(ctypes.Structure):
+    _fields_ = [("type", ctypes.c_int32), ("color", Float3), ("strength", ctypes.c_float),
+                ("position", Float3), ("direction", Float3), ("spot_size", ctypes.c_float),
+                ("spot_blend", ctypes.c_float)]
+
+
+class CameraDesc(ctypes.Structure):
+    _fields_ = [("world_to_view", Float16), ("view_to_clip", Float16), ("orthographic", ctypes.c_int32)]
+
+
+class Settings(ctypes.Structure):
+    _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
+                ("background", Float4)]
+
+
+class Stats(ctypes.Structure):
+    _fields_ = [("frame_ms", ctypes.c_double), ("stage_ms", ctypes.c_double * 4),
+                ("fragment_invocations", ctypes.c_uint64 * 4), ("splat_count", ctypes.c_uint64),
+                ("width", ctypes.c_int32), ("height", ctypes.c_int32), ("light_views", ctypes.c_int32),
+                ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32)]
+
+
+class ProfileInfo(ctypes.Structure):
+    _fields_ = [("total_reflectance", Float3), ("effective_range", Float3), ("support_radius", ctypes.c_float)]
+
+
+_lib = None
+
+
+def library():
+    """The loaded library, loaded on first use."""
+    global _lib
+    if _lib is None:
+        path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libsubsplat.so")
+        if not os.path.exists(path):
+            raise SubsplatError(f"native library missing: {path} (build with cmake, or reinstall the add-on)")
+        lib = ctypes.CDLL(path)
+        lib.ssGetApiVersion.restype = ctypes.c_int32
+        lib.ssGetLastError.restype = ctypes.c_char_p
+        handle = ctypes.c_void_p
+        signatures = {
+            "ssNewContext": [ctypes.POINTER(handle)],
+            "ssReleaseContext": [handle],
+            "ssSetMaterial": [handle, ctypes.c_uint32, ctypes.POINTER(MaterialDesc)],
+            "ssSetMesh": [handle, ctypes.c_uint32, ctypes.POINTER(MeshDesc)],
+            "ssRemoveMesh": [handle, ctypes.c_uint32],
+            "ssClearScene": [handle],
+            "ssSetLights": [handle, ctypes.POINTER(LightDesc), ctypes.c_uint32],
+            "ssSetCamera": [handle, ctypes.POINTER(CameraDesc)],
+            "ssSetSettings": [handle, ctypes.POINTER(Settings)],
+            "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
+            "ssGetStats": [handle, ctypes.POINTER(Stats)],
+            "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
+        }
+        for name, args in signatures.items():
+            function = getattr(lib, name)
+            function.argtypes = args
+            function.restype = ctypes.c_int
+        if lib.ssGetApiVersion() != API_VERSION:
+            raise SubsplatError(f"native library API {lib.ssGetApiVersion()} does not match the add-on's {API_VERSION}")
+        _lib = lib
+    return _lib
+
+
+def _check(status):
+    if status != 0:
+        message = library().ssGetLastError().decode("utf-8", "replace")
+        raise SubsplatError(message or _STATUS.get(status, f"status {status}"))
+
+
+def _floats(array):
+    return array.ctypes.data_as(ctypes.POINTER(ctypes.c_float))
+
+
+def _uints(array):
+    return array.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32))
+
+
+def profile_info(material):
+    """Rd_total, R_P and support radius of a MaterialDesc; no GL needed."""
+    info = ProfileInfo()
+    _check(library().ssGetProfileInfo(ctypes.byref(material), ctypes.byref(info)))
+    return info
+
+
+class Context:
+    """One native context: create, use and release it with the same GL context current."""
+
+    def __init__(self):
+        self._handle = ctypes.c_void_p()
+        _check(library().ssNewContext(ctypes.byref(self._handle)))
+
+    def release(self):
+        if self._handle:
+            _check(library().ssReleaseContext(self._handle))
+            self._handle = ctypes.c_void_p()
+
+    def set_material(self, material_id, material):
+        _check(library().ssSetMaterial(self._handle, material_id, ctypes.byref(material)))
+
+    def set_mesh(self, object_id, positions, normals, indices, triangle_materials, object_to_world, uvs=None):
+        """positions, normals: float32 (n, 3); indices: uint32 (t, 3); triangle_materials: uint32 (t,)."""
+        positions = np.ascontiguousarray(positions, dtype=np.float32)
+        normals = np.ascontiguousarray(normals, dtype=np.float32)
+        indices = np.ascontiguousarray(indices, dtype=np.uint32)
+        triangle_materials = np.ascontiguousarray(triangle_materials, dtype=np.uint32)
+        desc = MeshDesc()
+        desc.positions = _floats(positions)
+        desc.normals = _floats(normals)
+        if uvs is not None:
+            uvs = np.ascontiguousarray(uvs, dtype=np.float32)
+            desc.uvs = _floats(uvs)
+        desc.vertex_count = len(positions)
+        desc.indices = _uints(indices)
+        desc.triangle_materials = _uints(triangle_materials)
+        desc.triangle_count = len(indices)
+        desc.object_to_world = Float16(*object_to_world)
+        _check(library().ssSetMesh(self._handle, object_id, ctypes.byref(desc)))
+
+    def clear_scene(self):
+        _check(library().ssClearScene(self._handle))
+
+    def set_lights(self, lights):
+        array = (LightDesc * max(len(lights), 1))(*lights)
+        _check(library().ssSetLights(self._handle, array, len(lights)))
+
+    def set_camera(self, camera):
+        _check(library().ssSetCamera(self._handle, ctypes.byref(camera)))
+
+    def set_settings(self, settings):
+        _check(library().ssSetSettings(self._handle, ctypes.byref(settings)))
+
+    def render(self, width, height):
+        """Linear RGBA float32 pixels, shape (height, width, 4), bottom row first."""
+        pixels = np.empty((height, width, 4), dtype=np.float32)
+        _check(library().ssRender(self._handle, width, height, _floats(pixels)))
+        return pixels
+
+    def stats(self):
+        s = Stats()
+        _check(library().ssGetStats(self._handle, ctypes.byref(s)))
+        return {
+            "width": s.width, "height": s.height, "frame_ms": s.frame_ms,
+            "stage_ms": {name: s.stage_ms[i] for i, name in enumerate(STAGES)},
+            "fragment_invocations": dict({name: int(s.fragment_invocations[i]) for i, name in enumerate(STAGES)},
+                                         total=int(sum(s.fragment_invocations))),
+            "splat_count": int(s.splat_count), "light_views": s.light_views,
+            "timers_available": bool(s.timers_available), "statistics_available": bool(s.statistics_available),
+        }

@@ -1,0 +1,78 @@
+"""Settings on Scene (scene.subsplat) and Material (material.subsplat)."""
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty
+
+from . import presets
+
+METHOD_ITEMS = [
+    ("BRUTE", "Brute Force", "Splat every texel of the finest irradiance buffer (Shah et al. 2009): the baseline"),
+]
+
+
+class SubsplatSceneSettings(bpy.types.PropertyGroup):
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default="BRUTE",
+                         description="How irradiance samples are selected and splatted")
+    irradiance_resolution: IntProperty(
+        name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,
+        description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
+
+
+def _apply_preset(settings, _context):
+    if settings.preset == "CUSTOM":
+        return
+    _label, sigma_s_prime, sigma_a = presets.MEASURED_MEDIA[settings.preset]
+    settings["_applying_preset"] = True
+    settings.sigma_s_prime = sigma_s_prime
+    settings.sigma_a = sigma_a
+    settings.eta = presets.MEASURED_ETA
+    settings["_applying_preset"] = False
+
+
+def _coefficients_edited(settings, _context):
+    # Typing a coefficient by hand makes the material custom.
+    if not settings.get("_applying_preset", False) and settings.preset != "CUSTOM":
+        settings["preset"] = len(presets.MEASURED_MEDIA)  # index of CUSTOM
+
+
+PRESET_ITEMS = [(key, label, f"Measured {label} (Jensen et al. 2001)")
+                for key, (label, _s, _a) in presets.MEASURED_MEDIA.items()]
+PRESET_ITEMS.append(("CUSTOM", "Custom", "Coefficients typed by hand"))
+
+
+class SubsplatMaterialSettings(bpy.types.PropertyGroup):
+    enabled: BoolProperty(name="Translucent", default=False,
+                          description="Render this material with subsurface scattering")
+    source: EnumProperty(name="Source", default="DIPOLE", items=[
+        ("DIPOLE", "Dipole", "Homogeneous material from absorption and reduced scattering coefficients")])
+    preset: EnumProperty(name="Preset", items=PRESET_ITEMS, default="MARBLE", update=_apply_preset,
+                         description="Measured scattering coefficients")
+    sigma_a: FloatVectorProperty(name="Absorption", size=3, min=0.0, max=1e4, precision=4, step=0.01,
+                                 default=presets.MEASURED_MEDIA["MARBLE"][2], update=_coefficients_edited,
+                                 description="Absorption coefficient sigma_a per millimetre (RGB)")
+    sigma_s_prime: FloatVectorProperty(name="Reduced Scattering", size=3, min=0.0, max=1e4, precision=3,
+                                       default=presets.MEASURED_MEDIA["MARBLE"][1], update=_coefficients_edited,
+                                       description="Reduced scattering coefficient sigma_s' per millimetre (RGB)")
+    eta: FloatProperty(name="IOR", default=presets.MEASURED_ETA, min=1.0, max=3.0,
+                       description="Relative index of refraction")
+    mm_per_unit: FloatProperty(name="Millimetres per Unit", default=1000.0, min=1e-6, max=1e9, soft_min=0.1,
+                               soft_max=10000.0,
+                               description="Scale of the scene: millimetres in one Blender unit (1000 when 1 unit is 1 m)")
+    roughness: FloatProperty(name="Roughness", default=0.3, min=0.0, max=1.0, subtype="FACTOR")
+    specular: FloatProperty(name="Specular", default=0.5, min=0.0, max=1.0, subtype="FACTOR")
+
+
+CLASSES = (SubsplatSceneSettings, SubsplatMaterialSettings)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.subsplat = PointerProperty(type=SubsplatSceneSettings)
+    bpy.types.Material.subsplat = PointerProperty(type=SubsplatMaterialSettings)
+
+
+def unregister():
+    del bpy.types.Material.subsplat
+    del bpy.types.Scene.subsplat
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,90 @@
+"""Panels: render settings, material translucency, and the stock panels the engine supports."""
+import bpy
+
+from . import export, native
+
+
+class SubsplatPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    COMPAT_ENGINES = {"SUBSPLAT"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
+    bl_label = "SubSplat"
+    bl_context = "render"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.scene.subsplat
+        layout.prop(settings, "method")
+        layout.prop(settings, "irradiance_resolution")
+
+
+class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
+    bl_label = "Translucency"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.material is not None
+
+    def draw_header(self, context):
+        self.layout.prop(context.material.subsplat, "enabled", text="")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.material.subsplat
+        layout.active = settings.enabled
+        layout.prop(settings, "source")
+        layout.prop(settings, "preset")
+        layout.prop(settings, "sigma_a")
+        layout.prop(settings, "sigma_s_prime")
+        layout.prop(settings, "eta")
+        layout.prop(settings, "mm_per_unit")
+        layout.prop(settings, "roughness")
+        layout.prop(settings, "specular")
+        if not settings.enabled:
+            return
+        try:
+            info = native.profile_info(export.material_desc(context.material))
+        except native.SubsplatError as error:
+            layout.label(text=str(error), icon="ERROR")
+            return
+        col = layout.column(align=True)
+        col.label(text="Total reflectance: " + ", ".join(f"{v:.3f}" for v in info.total_reflectance))
+        col.label(text="Scattering range (95%): " + ", ".join(f"{v:.4g}" for v in info.effective_range) + " units")
+        col.label(text=f"Splat radius: {info.support_radius:.4g} units")
+
+
+CLASSES = (SUBSPLAT_PT_render, SUBSPLAT_PT_material)
+
+# Stock panels that make sense for this engine (from the Blender template for external engines).
+EXCLUDED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance"}
+
+
+def _stock_panels():
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is not None and "BLENDER_RENDER" in engines and panel.__name__ not in EXCLUDED_PANELS:
+            yield panel
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+    for panel in _stock_panels():
+        panel.COMPAT_ENGINES.add("SUBSPLAT")
+
+
+def unregister():
+    for panel in _stock_panels():
+        panel.COMPAT_ENGINES.discard("SUBSPLAT")
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)
