@@ -63,7 +63,9 @@ class Stats(ctypes.Structure):
     _fields_ = [("frame_ms", ctypes.c_double), ("stage_ms", ctypes.c_double * 4),
                 ("fragment_invocations", ctypes.c_uint64 * 4), ("splat_count", ctypes.c_uint64),
                 ("width", ctypes.c_int32), ("height", ctypes.c_int32), ("light_views", ctypes.c_int32),
-                ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32)]
+                ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32),
+                ("translucent_pixels", ctypes.c_uint64), ("lit_translucent_pixels", ctypes.c_uint64),
+                ("nonfinite_pixels", ctypes.c_uint64)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -192,4 +194,6 @@ class Context:
                                          total=int(sum(s.fragment_invocations))),
             "splat_count": int(s.splat_count), "light_views": s.light_views,
             "timers_available": bool(s.timers_available), "statistics_available": bool(s.statistics_available),
+            "translucent_pixels": int(s.translucent_pixels), "lit_translucent_pixels": int(s.lit_translucent_pixels),
+            "nonfinite_pixels": int(s.nonfinite_pixels),
         }

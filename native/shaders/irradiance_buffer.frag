@@ -24,10 +24,10 @@ void main() {
 
   // Area of the texel projected onto the plane facing the light, and flux.
   vec3 flux;
-  float footprintArea;
+  float perpendicularArea;  // texel area on the plane facing the light
   if (lightType == 2) {
     flux = lightRadiant * orthoTexelArea;
-    footprintArea = orthoTexelArea / cosGeometric;
+    perpendicularArea = orthoTexelArea;
     lightDepth = dot(worldPosition, lightDirection);
   } else {
     vec2 ndc = gl_FragCoord.xy / float(resolution) * 2.0 - 1.0;
@@ -36,7 +36,7 @@ void main() {
                             pow(1.0 + dot(plane, plane), 1.5);
     float distance2 = dot(lightPosition - worldPosition, lightPosition - worldPosition);
     flux = irradianceFacingLight(worldPosition) * distance2 * texelSolidAngle;
-    footprintArea = texelSolidAngle * distance2 / cosGeometric;
+    perpendicularArea = texelSolidAngle * distance2;
     lightDepth = sqrt(distance2);
   }
   if (isTranslucent(material)) {
@@ -46,6 +46,8 @@ void main() {
     flux = vec3(0.0);
   }
   positionMaterial = vec4(worldPosition, float(material));
-  fluxFootprint = vec4(flux, footprintSigma * sqrt(footprintArea));
+  // On a slope the texel grid is stretched by 1 / cos along the slope; the
+  // (isotropic) footprint follows the long axis so that it still tiles.
+  fluxFootprint = vec4(flux, footprintSigma * sqrt(perpendicularArea) / cosGeometric);
   normalObject = vec4(n, objectIndex);
 }

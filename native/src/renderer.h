@@ -18,6 +18,8 @@ class Renderer {
 
  private:
   void uploadMaterials();
+  // Coverage figures of the frame for SsStats (tests and the UI read them).
+  void countCoverage(int width, int height, const float* rgba);
 
   Scene scene_;
   SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}};

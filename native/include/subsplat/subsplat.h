@@ -123,6 +123,9 @@ typedef struct SsStats {
   int32_t width, height;
   int32_t light_views;                       /* irradiance buffers rendered */
   int32_t timers_available, statistics_available;
+  uint64_t translucent_pixels;      /* pixels showing a translucent surface */
+  uint64_t lit_translucent_pixels;  /* of those, with finite exitance > 0 */
+  uint64_t nonfinite_pixels;        /* pixels of the result that are NaN or infinite */
 } SsStats;
 
 /* Library */

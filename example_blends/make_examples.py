@@ -1,0 +1,141 @@
+"""Regenerates the example scenes of example_blends/ (deterministic).
+
+    BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
+        --python example_blends/make_examples.py
+
+Each scene is built from Blender primitives, so nothing is downloaded.
+"""
+import math
+import os
+
+import bpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def reset():
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = "SUBSPLAT"
+    scene.render.resolution_x, scene.render.resolution_y = 800, 600
+    scene.render.resolution_percentage = 100
+    scene.subsplat.irradiance_resolution = 512
+    world = bpy.data.worlds.new("World")
+    world.color = (0.02, 0.02, 0.025)
+    scene.world = world
+    return scene
+
+
+def translucent(name, preset, mm_per_unit, roughness=0.35, specular=0.4):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    settings = material.subsplat
+    settings.enabled = True
+    settings.preset = preset
+    settings.mm_per_unit = mm_per_unit
+    settings.roughness = roughness
+    settings.specular = specular
+    return material
+
+
+def opaque(name, color, roughness=0.8):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Specular"].default_value = 0.2
+    return material
+
+
+def floor(size=12.0, z=-1.0):
+    bpy.ops.mesh.primitive_plane_add(size=size, location=(0, 0, z))
+    plane = bpy.context.object
+    plane.name = "Floor"
+    plane.data.materials.append(opaque("Floor", (0.35, 0.35, 0.38)))
+    return plane
+
+
+def camera(location, target, lens=50.0):
+    bpy.ops.object.camera_add(location=location)
+    cam = bpy.context.object
+    direction = (target[0] - location[0], target[1] - location[1], target[2] - location[2])
+    cam.rotation_euler = _look_rotation(direction)
+    cam.data.lens = lens
+    bpy.context.scene.camera = cam
+    return cam
+
+
+def _look_rotation(direction):
+    from mathutils import Vector
+    return Vector(direction).to_track_quat("-Z", "Y").to_euler()
+
+
+def light(kind, location, target=(0, 0, 0), energy=100.0, color=(1, 1, 1), **extra):
+    data = bpy.data.lights.new(f"{kind.title()}Light", kind)
+    data.energy = energy
+    data.color = color
+    for key, value in extra.items():
+        setattr(data, key, value)
+    obj = bpy.data.objects.new(data.name, data)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.location = location
+    direction = (target[0] - location[0], target[1] - location[1], target[2] - location[2])
+    obj.rotation_euler = _look_rotation(direction)
+    return obj
+
+
+def skin_suzanne():
+    """Suzanne in skin, lit from behind and the side: light bleeds through ears and nose."""
+    scene = reset()
+    bpy.ops.mesh.primitive_monkey_add(size=2.0, location=(0, 0, 0))
+    head = bpy.context.object
+    head.name = "Suzanne"
+    modifier = head.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels = modifier.render_levels = 2
+    bpy.ops.object.shade_smooth()
+    head.data.materials.append(translucent("Skin", "SKIN1", mm_per_unit=50.0))
+    floor()
+    camera((0.0, -6.5, 1.2), (0, 0, 0.1))
+    light("SPOT", (2.5, 3.0, 2.0), energy=2500.0, spot_size=math.radians(50), spot_blend=0.3,
+          color=(1.0, 0.95, 0.9), shadow_soft_size=0.0)
+    light("POINT", (-3.0, -3.0, 1.5), energy=300.0, color=(0.8, 0.85, 1.0), shadow_soft_size=0.0)
+    return scene
+
+
+def marble_pieces():
+    """Marble sphere and cream cylinder lit from behind by a low sun: glowing rims, soft terminators."""
+    scene = reset()
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.8, location=(-0.9, 0, -0.2), segments=64, ring_count=32)
+    bpy.ops.object.shade_smooth()
+    sphere = bpy.context.object
+    sphere.name = "MarbleSphere"
+    marble = translucent("Marble", "MARBLE", mm_per_unit=100.0, roughness=0.2, specular=0.5)
+    sphere.data.materials.append(marble)
+    bpy.ops.mesh.primitive_cylinder_add(radius=0.5, depth=1.8, location=(0.9, 0.3, -0.1), vertices=64)
+    bpy.ops.object.shade_smooth()
+    cylinder = bpy.context.object
+    cylinder.data.use_auto_smooth = True  # sharp cap edges, smooth sides
+    cylinder.data.auto_smooth_angle = math.radians(30)
+    cylinder.name = "CreamCylinder"
+    cylinder.data.materials.append(translucent("Cream", "CREAM", mm_per_unit=100.0))
+    floor()
+    camera((0.0, -6.0, 1.5), (0, 0, -0.2))
+    light("SUN", (-2, 4, 1.5), target=(0, 0, 0), energy=5.0, color=(1.0, 0.97, 0.92), angle=0.0)
+    light("POINT", (2.5, -3.0, 2.5), energy=150.0, color=(0.7, 0.8, 1.0), shadow_soft_size=0.0)
+    return scene
+
+
+EXAMPLES = {"skin_suzanne": skin_suzanne, "marble_pieces": marble_pieces}
+
+
+def main():
+    for name, build in EXAMPLES.items():
+        build()
+        path = os.path.join(HERE, f"{name}.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
