@@ -1,4 +1,5 @@
 """The SubSplat RenderEngine: a thin layer that exports the frame and forwards it to the library."""
+import os
 import sys
 import time
 
@@ -47,7 +48,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             _last_error = None
         except (native.SubsplatError, export.ExportError) as error:
             _last_error = str(error)
-            self._fail(f"SubSplat: {error}")
+            self.report({"ERROR"}, f"SubSplat: {error}")
+            print(f"SubSplat: {error}", file=sys.stderr, flush=True)
         finally:
             if self._context is not None:
                 try:
@@ -55,6 +57,13 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
                 except native.SubsplatError:
                     pass
                 self._context = None
+        if _last_error is not None and bpy.app.background and exit_on_error:
+            # `blender -b ... -f N` exits 0 after a failed render, and a
+            # SystemExit raised inside the render job hangs it: a farm must see
+            # the failure, so leave with status 1 once our GL objects are gone.
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(1)
 
     def _render(self, depsgraph, width, height):
         scene = depsgraph.scene
@@ -96,15 +105,6 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         self.end_result(result)
         label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} splats")
-
-    def _fail(self, message):
-        self.report({"ERROR"}, message)
-        print(message, file=sys.stderr, flush=True)
-        if bpy.app.background and exit_on_error:
-            # `blender -b ... -f N` exits 0 after a failed render unless told
-            # otherwise; a farm must see the failure. SystemExit raised here
-            # ends Blender with this status.
-            sys.exit(1)
 
 
 # Scripts that render in background mode and want to handle failures

@@ -168,6 +168,13 @@ def export_frame(depsgraph, width, height):
             if len(mesh.polygons) == 0:
                 continue
             positions, normals, triangles, slots = mesh_arrays(mesh)
+            bad = np.flatnonzero(~np.isfinite(positions).all(axis=1))
+            if len(bad):
+                loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+                mesh.loops.foreach_get("vertex_index", loop_vertex)
+                vertex = int(loop_vertex[bad[0]])
+                raise ExportError(f"object '{obj.name}': vertex {vertex} has a non-finite position "
+                                  f"{tuple(mesh.vertices[vertex].co)}")
             if len(triangles) == 0:
                 continue
             slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \

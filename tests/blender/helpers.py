@@ -1,0 +1,143 @@
+"""Shared by the tests that run inside `blender -b` (see tests/CMakeLists.txt)."""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import bpy
+import numpy as np
+
+OUTPUT = os.environ.get("SUBSPLAT_TEST_OUTPUT", os.path.join(tempfile.gettempdir(), "subsplat_tests"))
+SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
+os.makedirs(OUTPUT, exist_ok=True)
+
+
+def enable_addon():
+    import addon_utils
+    addon_utils.enable("subsplat", default_set=True)
+    import subsplat
+    subsplat.engine.exit_on_error = False
+    return subsplat
+
+
+def empty_scene(width, height):
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    world = bpy.data.worlds.new("World")
+    world.color = (0.0, 0.0, 0.0)
+    world.use_nodes = False
+    scene.world = world
+    scene.view_settings.view_transform = "Standard"
+    return scene
+
+
+def top_down_camera(scene, ortho_scale, height=5.0):
+    data = bpy.data.cameras.new("Camera")
+    data.type = "ORTHO"
+    data.ortho_scale = ortho_scale
+    data.clip_start, data.clip_end = 0.1, 100.0
+    camera = bpy.data.objects.new("Camera", data)
+    camera.location = (0, 0, height)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return camera
+
+
+def plane(scene, size, material):
+    mesh = bpy.data.meshes.new("Plane")
+    h = size / 2
+    mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new("Plane", mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def add_light(scene, kind, location=(0, 0, 0), rotation=(0, 0, 0), energy=1.0, **extra):
+    data = bpy.data.lights.new(kind.title(), kind)
+    data.energy = energy
+    for key, value in extra.items():
+        setattr(data, key, value)
+    obj = bpy.data.objects.new(data.name, data)
+    obj.location = location
+    obj.rotation_euler = rotation
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def render(scene, name):
+    """Renders with the scene's engine; linear RGBA float array (height, width, 4), bottom row first."""
+    path = os.path.join(OUTPUT, name + ".exr")
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(path, check_existing=False)
+    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    pixels = pixels.reshape(image.size[1], image.size[0], 4)
+    bpy.data.images.remove(image)
+    return pixels
+
+
+def centre(pixels, fraction):
+    h, w = pixels.shape[:2]
+    y0, x0 = int(h * (1 - fraction) / 2), int(w * (1 - fraction) / 2)
+    return pixels[y0:h - y0, x0:w - x0]
+
+
+def fresnel_transmittance(eta, cos_theta):
+    cos_theta = min(max(cos_theta, 0.0), 1.0)
+    sin2 = (1 - cos_theta ** 2) / eta ** 2
+    if sin2 >= 1:
+        return 0.0
+    cos_t = math.sqrt(1 - sin2)
+    rs = (cos_theta - eta * cos_t) / (cos_theta + eta * cos_t)
+    rp = (eta * cos_theta - cos_t) / (eta * cos_theta + cos_t)
+    return 1 - 0.5 * (rs * rs + rp * rp)
+
+
+def dipole_total_reflectance(sigma_a, sigma_s_prime, eta):
+    """Rd_total of DESIGN.md (Jensen et al. 2001), computed here independently of the library."""
+    albedo = sigma_s_prime / (sigma_a + sigma_s_prime)
+    fdr = -1.440 / eta ** 2 + 0.710 / eta + 0.668 + 0.0636 * eta
+    big_a = (1 + fdr) / (1 - fdr)
+    root = math.sqrt(3 * (1 - albedo))
+    return albedo / 2 * (1 + math.exp(-4 / 3 * big_a * root)) * math.exp(-root)
+
+
+def write_difference(name, ours, reference):
+    """A false-colour |ours - reference| / reference image a person can look at (PNG)."""
+    diff = np.abs(ours[..., :3] - reference[..., :3]).mean(axis=-1) / max(float(np.abs(reference[..., :3]).mean()), 1e-12)
+    t = np.clip(diff * 10.0, 0.0, 1.0)  # x10: 10 % difference is full red
+    rgba = np.stack([t, 1 - np.abs(2 * t - 1), 1 - t, np.ones_like(t)], axis=-1).astype(np.float32)
+    image = bpy.data.images.new(name, ours.shape[1], ours.shape[0], float_buffer=False)
+    image.pixels.foreach_set(rgba.ravel())
+    image.filepath_raw = os.path.join(OUTPUT, name + "_difference.png")
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+    return image.filepath_raw
+
+
+def blender_command(*args):
+    """Another Blender process with the add-on staged by the build."""
+    executable = os.environ.get("BLENDER", bpy.app.binary_path)
+    return [executable, "-b", "--factory-startup", "--addons", "subsplat", *args]
+
+
+def run_blender(*args, timeout=600):
+    return subprocess.run(blender_command(*args), capture_output=True, text=True, timeout=timeout)
+
+
+def run_tests(test_case_module_name="__main__"):
+    import unittest
+    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[test_case_module_name])
+    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    passed = result.testsRun - len(result.failures) - len(result.errors)
+    print(f"{passed} passed, {len(result.failures) + len(result.errors)} failed")
+    if not result.wasSuccessful():
+        sys.exit(1)

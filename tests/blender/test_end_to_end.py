@@ -1,0 +1,81 @@
+"""End to end: every example scene renders through `blender -b ... -E SUBSPLAT -f 1`, and a
+broken scene fails with a clear message and a non-zero exit instead of crashing Blender."""
+import glob
+import json
+import math
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
+helpers.enable_addon()
+import numpy as np  # noqa: E402
+
+STATS_EXPR = ("import json, subsplat; "
+              "print('SUBSPLAT_STATS ' + json.dumps(subsplat.last_render_stats()))")
+
+
+def stats_from(output):
+    line = next(line for line in output.splitlines() if line.startswith("SUBSPLAT_STATS "))
+    return json.loads(line[len("SUBSPLAT_STATS "):])
+
+
+class ExampleScenesRender(unittest.TestCase):
+    def test_every_example_renders(self):
+        scenes = sorted(glob.glob(os.path.join(helpers.SOURCE, "example_blends", "*.blend")))
+        self.assertGreater(len(scenes), 0, "no example scenes found")
+        for path in scenes:
+            name = os.path.splitext(os.path.basename(path))[0]
+            with self.subTest(scene=name):
+                out = os.path.join(helpers.OUTPUT, f"example_{name}_")
+                result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", out, "-F", "OPEN_EXR", "-f", "1",
+                                             "--python-expr", STATS_EXPR)
+                self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
+                stats = stats_from(result.stdout)
+                print(f"{name}: {stats['width']}x{stats['height']} {stats['frame_ms']:.0f} ms, "
+                      f"{stats['translucent_pixels']} translucent pixels, {stats['lit_translucent_pixels']} lit")
+                self.assertEqual(stats["method"], "BRUTE")
+                self.assertEqual(stats["nonfinite_pixels"], 0)
+                self.assertGreater(stats["translucent_pixels"], 1000)
+                # Light reaches most of what is visible of a translucent object.
+                self.assertGreater(stats["lit_translucent_pixels"], 0.5 * stats["translucent_pixels"])
+                import bpy
+                image = bpy.data.images.load(out + "0001.exr")
+                pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+                image.pixels.foreach_get(pixels)
+                self.assertTrue(np.all(np.isfinite(pixels)))
+                self.assertGreater(float(pixels.reshape(-1, 4)[:, :3].max()), 0.0)
+                bpy.data.images.remove(image)
+
+
+class BrokenSceneFailsCleanly(unittest.TestCase):
+    def test_nan_vertex_gives_message_and_nonzero_exit(self):
+        import bpy
+        scene = helpers.empty_scene(64, 48)
+        scene.render.engine = "SUBSPLAT"
+        material = bpy.data.materials.new("Wax")
+        material.subsplat.enabled = True
+        material.subsplat.preset = "SKIN1"
+        bpy.ops.mesh.primitive_cube_add()
+        cube = bpy.context.object
+        cube.name = "BrokenCube"
+        cube.data.materials.append(material)
+        cube.data.vertices[3].co = (math.nan, 0.0, 0.0)
+        camera = helpers.top_down_camera(scene, ortho_scale=4.0)
+        camera.data.type = "PERSP"
+        helpers.add_light(scene, "SUN", energy=3.0)
+        path = os.path.join(helpers.OUTPUT, "broken_nan_vertex.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", os.path.join(helpers.OUTPUT, "broken_"),
+                                     "-f", "1")
+        output = result.stdout + result.stderr
+        # 1 is a reported failure; a crash is a signal (negative) or 128 + signal.
+        self.assertEqual(result.returncode, 1, output[-3000:])
+        self.assertIn("object 'BrokenCube'", output)
+        self.assertIn("non-finite position", output)
+
+
+if __name__ == "__main__":
+    helpers.run_tests()

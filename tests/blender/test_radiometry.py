@@ -1,0 +1,67 @@
+"""Radiometry against Cycles: a Lambertian plane lit by a point, a spot and a sun light,
+rendered by SubSplat and by Cycles in the same run; mean radiance of the lit region within 3 %."""
+import math
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
+subsplat = helpers.enable_addon()
+
+
+def lambertian(name, grey):
+    import bpy
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (grey, grey, grey, 1.0)
+    bsdf.inputs["Specular"].default_value = 0.0
+    bsdf.inputs["Roughness"].default_value = 1.0
+    return material
+
+
+class RadiometryMatchesCycles(unittest.TestCase):
+    SIZE = 64
+
+    def compare(self, name, add_light, region=0.5):
+        scene = helpers.empty_scene(self.SIZE, self.SIZE)
+        helpers.plane(scene, 8.0, lambertian("Grey", 0.5))
+        helpers.top_down_camera(scene, ortho_scale=4.0)
+        add_light(scene)
+        scene.render.engine = "SUBSPLAT"
+        ours = helpers.render(scene, f"radiometry_{name}_subsplat")
+        scene.render.engine = "CYCLES"
+        scene.cycles.device = "CPU"
+        scene.cycles.samples = 256
+        scene.cycles.use_denoising = False
+        scene.cycles.max_bounces = 0
+        scene.cycles.seed = 1
+        cycles = helpers.render(scene, f"radiometry_{name}_cycles")
+        ours_mean = helpers.centre(ours, region)[..., :3].mean()
+        cycles_mean = helpers.centre(cycles, region)[..., :3].mean()
+        ratio = ours_mean / cycles_mean
+        print(f"radiometry {name}: subsplat {ours_mean:.5f} cycles {cycles_mean:.5f} ratio {ratio:.4f}")
+        if abs(ratio - 1) > 0.03:
+            helpers.write_difference(f"radiometry_{name}", ours, cycles)
+        self.assertAlmostEqual(ratio, 1.0, delta=0.03, msg=f"SubSplat/Cycles = {ratio:.4f}")
+
+    def test_point_light(self):
+        self.compare("point", lambda s: helpers.add_light(s, "POINT", (0.3, 0.2, 2.0), energy=100.0,
+                                                          shadow_soft_size=0.0))
+
+    def test_spot_light(self):
+        # Cone of 90 degrees with blend: the centre region spans the cone's inner
+        # part and its smoothed edge.
+        self.compare("spot", lambda s: helpers.add_light(s, "SPOT", (0.0, 0.0, 2.0), energy=200.0,
+                                                         spot_size=math.radians(90), spot_blend=0.5,
+                                                         shadow_soft_size=0.0), region=0.9)
+
+    def test_sun_light(self):
+        self.compare("sun", lambda s: helpers.add_light(s, "SUN", rotation=(math.radians(30), 0, 0),
+                                                        energy=2.0, angle=0.0))
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
