@@ -30,11 +30,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
     bl_use_preview = False
 
     def __init__(self):
-        self._context = None
-
-    def __del__(self):
-        # Native GL objects belong to the render GL context, which is not
-        # current here; the context is released at the end of render().
+        # Native GL objects belong to the render GL context: the native
+        # context lives only inside render(), where that context is current.
         self._context = None
 
     def render(self, depsgraph):
