@@ -6,9 +6,9 @@ flat in vec3 splatFlux;
 flat in float splatFootprint;
 flat in float splatObject;
 flat in int splatMaterial;
+flat in float splatKernelRow;
 uniform sampler2D splattingPositionObject;
 uniform sampler2DArray splatKernels;
-uniform vec2 kernelLog2Range;   // s axis: log2(a / support) at first and last row
 uniform vec2 kernelTableSize;   // (distance samples, footprint samples)
 uniform float footprintReach;   // x sigma
 layout(location = 0) out vec4 exitance;
@@ -21,9 +21,7 @@ void main() {
   float d = distance(po.xyz, splatPosition);
   if (d >= reach) discard;
   float t = sqrt(d / reach);
-  float s = (log2(splatFootprint / support) - kernelLog2Range.x) /
-            (kernelLog2Range.y - kernelLog2Range.x);
-  vec2 uv = (vec2(t, clamp(s, 0.0, 1.0)) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
+  vec2 uv = (vec2(t, splatKernelRow) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
   float layer = materials[splatMaterial].optics.w;
   vec3 kernel = texture(splatKernels, vec3(uv, layer)).rgb;
   exitance = vec4(splatFlux * kernel, 0.0);

@@ -12,6 +12,8 @@ in SplatSample {
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
 uniform float footprintReach;  // x sigma
+uniform vec2 kernelLog2Range;  // table rows: log2(sigma / support) at first and last
+flat out float splatKernelRow; // the footprint's row of the kernel table, in [0, 1]
 flat out vec3 splatPosition;
 flat out vec3 splatFlux;
 flat out float splatFootprint;
@@ -41,7 +43,10 @@ void main() {
   hi = min(hi, vec2(1.0));
   if (any(greaterThanEqual(lo, hi))) return;
 
+  float row = (log2(sampleIn[0].footprint / materials[m].ranges.x) - kernelLog2Range.x) /
+              (kernelLog2Range.y - kernelLog2Range.x);
   for (int i = 0; i < 4; ++i) {
+    splatKernelRow = clamp(row, 0.0, 1.0);
     splatPosition = sampleIn[0].position;
     splatFlux = flux;
     splatFootprint = sampleIn[0].footprint;
