@@ -18,7 +18,7 @@ if "bpy" in locals():
 import bpy  # noqa: E402,F401
 
 from . import native, presets, properties, export, engine, ui  # noqa: E402,F401
-from .engine import last_render_error, last_render_stats  # noqa: E402,F401
+from .engine import last_render_error, last_render_passes, last_render_stats  # noqa: E402,F401
 
 
 def register():

@@ -10,6 +10,9 @@ from .properties import METHOD_ITEMS
 
 _last_stats = {}
 _last_error = None
+_last_passes = {}
+
+EXITANCE_PASS = "SubSplat Exitance"
 
 
 def last_render_stats():
@@ -20,6 +23,12 @@ def last_render_stats():
 def last_render_error():
     """The message of the last failed render, or None."""
     return _last_error
+
+
+def last_render_passes():
+    """With keep_passes set: {"Combined": ..., "SubSplat Exitance": ...} of the last render, as
+    float32 arrays (height, width, 4), bottom row first. Used by tests and bench/accuracy.py."""
+    return dict(_last_passes)
 
 
 class SubsplatRenderEngine(bpy.types.RenderEngine):
@@ -34,6 +43,11 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         # context lives only inside render(), where that context is current.
         self._context = None
 
+    def update_render_passes(self, scene=None, renderlayer=None):
+        # Lists the passes for the compositor's Render Layers node.
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        self.register_pass(scene, renderlayer, EXITANCE_PASS, 4, "RGBA", "COLOR")
+
     def render(self, depsgraph):
         global _last_error
         scene = depsgraph.scene
@@ -43,6 +57,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         try:
             self._render(depsgraph, width, height)
             _last_error = None
+        except native.Cancelled:
+            _last_error = None
+            self.update_stats("", "SubSplat: cancelled")
         except (native.SubsplatError, export.ExportError) as error:
             _last_error = str(error)
             self.report({"ERROR"}, f"SubSplat: {error}")
@@ -87,26 +104,45 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         native_settings.method = native.METHODS[settings.method]
         native_settings.irradiance_resolution = settings.irradiance_resolution
         native_settings.background = native.Float4(*export.background(scene))
+        native_settings.reference_samples = settings.reference_samples
         context.set_settings(native_settings)
 
-        self.update_stats("", "SubSplat: rendering")
-        pixels = context.render(width, height)
+        progress = None
+        if settings.method == "REFERENCE":
+            self.update_stats("", f"SubSplat Reference: {settings.reference_samples} surface samples")
+
+            def progress(fraction):
+                self.update_progress(fraction)
+                return not self.test_break()
+        else:
+            self.update_stats("", "SubSplat: rendering")
+        _last_passes.clear()
+        pixels = context.render(width, height, progress)
+        exitance = context.exitance_pass(width, height)
         stats = context.stats()
         stats.update(method=settings.method, export_ms=export_ms, meshes=len(frame.meshes),
-                     lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution)
+                     lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution,
+                     reference_samples=settings.reference_samples)
         _last_stats.clear()
         _last_stats.update(stats)
+        if keep_passes:
+            _last_passes.update({"Combined": pixels, EXITANCE_PASS: exitance})
 
+        self.add_pass(EXITANCE_PASS, 4, "RGBA")
         result = self.begin_result(0, 0, width, height)
         result.layers[0].passes["Combined"].rect = pixels.reshape(-1, 4)
+        result.layers[0].passes[EXITANCE_PASS].rect = exitance.reshape(-1, 4)
         self.end_result(result)
         label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
-        self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} splats")
+        samples = "surface samples" if settings.method == "REFERENCE" else "splats"
+        self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} {samples}")
 
 
 # Scripts that render in background mode and want to handle failures
 # themselves (tests) set subsplat.engine.exit_on_error = False.
 exit_on_error = True
+# Tests and benchmarks set keep_passes = True to read last_render_passes().
+keep_passes = False
 
 
 def register():

@@ -8,14 +8,16 @@ import os
 
 import numpy as np
 
-API_VERSION = 1
+API_VERSION = 2
 STAGES = ("buffers", "splatting", "shading", "readback")
-METHODS = {"BRUTE": 0}
+METHODS = {"BRUTE": 0, "REFERENCE": 4}
+PASS_EXITANCE = 0
+CANCELLED = 7
 LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
 MATERIAL_OPAQUE, MATERIAL_DIPOLE = 0, 1
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
-           5: "limit exceeded", 6: "internal error"}
+           5: "limit exceeded", 6: "internal error", 7: "cancelled"}
 
 Float3 = ctypes.c_float * 3
 Float4 = ctypes.c_float * 4
@@ -24,6 +26,18 @@ Float16 = ctypes.c_float * 16
 
 class SubsplatError(RuntimeError):
     """A failed library call; str() is the library's message."""
+
+    def __init__(self, message, status=None):
+        super().__init__(message)
+        self.status = status
+
+
+class Cancelled(SubsplatError):
+    """The render was stopped through the progress callback (the user cancelled)."""
+
+
+# int32_t (*)(float fraction, void* user): non-zero stops the render.
+ProgressCallback = ctypes.CFUNCTYPE(ctypes.c_int32, ctypes.c_float, ctypes.c_void_p)
 
 
 class MeshDesc(ctypes.Structure):
@@ -56,7 +70,7 @@ class CameraDesc(ctypes.Structure):
 
 class Settings(ctypes.Structure):
     _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
-                ("background", Float4)]
+                ("background", Float4), ("reference_samples", ctypes.c_uint32)]
 
 
 class Stats(ctypes.Structure):
@@ -65,7 +79,7 @@ class Stats(ctypes.Structure):
                 ("width", ctypes.c_int32), ("height", ctypes.c_int32), ("light_views", ctypes.c_int32),
                 ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32),
                 ("translucent_pixels", ctypes.c_uint64), ("lit_translucent_pixels", ctypes.c_uint64),
-                ("nonfinite_pixels", ctypes.c_uint64)]
+                ("nonfinite_pixels", ctypes.c_uint64), ("kernel_evaluations", ctypes.c_uint64)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -98,6 +112,8 @@ def library():
             "ssSetSettings": [handle, ctypes.POINTER(Settings)],
             "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
             "ssGetStats": [handle, ctypes.POINTER(Stats)],
+            "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
+            "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
             "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
         }
         for name, args in signatures.items():
@@ -113,7 +129,8 @@ def library():
 def _check(status):
     if status != 0:
         message = library().ssGetLastError().decode("utf-8", "replace")
-        raise SubsplatError(message or _STATUS.get(status, f"status {status}"))
+        error = Cancelled if status == CANCELLED else SubsplatError
+        raise error(message or _STATUS.get(status, f"status {status}"), status)
 
 
 def _floats(array):
@@ -178,10 +195,34 @@ class Context:
     def set_settings(self, settings):
         _check(library().ssSetSettings(self._handle, ctypes.byref(settings)))
 
-    def render(self, width, height):
-        """Linear RGBA float32 pixels, shape (height, width, 4), bottom row first."""
+    def render(self, width, height, progress=None):
+        """Linear RGBA float32 pixels, shape (height, width, 4), bottom row first.
+
+        progress(fraction) -> bool is called now and then during long renders
+        (REFERENCE) on this thread; returning False stops the render, which
+        then raises Cancelled. An exception inside progress also stops it.
+        """
         pixels = np.empty((height, width, 4), dtype=np.float32)
-        _check(library().ssRender(self._handle, width, height, _floats(pixels)))
+        callback = None
+        if progress is not None:
+            def trampoline(fraction, _user):
+                try:
+                    return 0 if progress(float(fraction)) else 1
+                except BaseException:  # never let an exception unwind through C
+                    return 1
+            callback = ProgressCallback(trampoline)  # kept alive until the call returns
+            _check(library().ssSetProgressCallback(self._handle, callback, None))
+        try:
+            _check(library().ssRender(self._handle, width, height, _floats(pixels)))
+        finally:
+            if callback is not None:
+                library().ssSetProgressCallback(self._handle, ProgressCallback(), None)
+        return pixels
+
+    def exitance_pass(self, width, height):
+        """B(x_o) of the last render in rgb, 1 in alpha on translucent pixels; (height, width, 4)."""
+        pixels = np.empty((height, width, 4), dtype=np.float32)
+        _check(library().ssGetPass(self._handle, PASS_EXITANCE, width, height, _floats(pixels)))
         return pixels
 
     def stats(self):
@@ -195,5 +236,5 @@ class Context:
             "splat_count": int(s.splat_count), "light_views": s.light_views,
             "timers_available": bool(s.timers_available), "statistics_available": bool(s.statistics_available),
             "translucent_pixels": int(s.translucent_pixels), "lit_translucent_pixels": int(s.lit_translucent_pixels),
-            "nonfinite_pixels": int(s.nonfinite_pixels),
+            "nonfinite_pixels": int(s.nonfinite_pixels), "kernel_evaluations": int(s.kernel_evaluations),
         }

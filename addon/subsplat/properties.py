@@ -6,6 +6,8 @@ from . import presets
 
 METHOD_ITEMS = [
     ("BRUTE", "Brute Force", "Splat every texel of the finest irradiance buffer (Shah et al. 2009): the baseline"),
+    ("REFERENCE", "Reference",
+     "Ground truth: the same model summed in object space on the CPU with ray-traced shadows (slow)"),
 ]
 
 
@@ -15,6 +17,10 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     irradiance_resolution: IntProperty(
         name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,
         description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
+    reference_samples: IntProperty(
+        name="Reference Samples", default=200000, min=1000, max=100000000, soft_min=10000, soft_max=4000000,
+        description="Reference: surface samples spread by area over all translucent surfaces together "
+                    "(at least one per triangle). Render time grows with it; see docs/ACCURACY.md")
 
 
 def _apply_preset(settings, _context):

@@ -23,7 +23,10 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.use_property_split = True
         settings = context.scene.subsplat
         layout.prop(settings, "method")
-        layout.prop(settings, "irradiance_resolution")
+        if settings.method == "REFERENCE":
+            layout.prop(settings, "reference_samples")
+        else:
+            layout.prop(settings, "irradiance_resolution")
 
 
 class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):

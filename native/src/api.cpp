@@ -146,6 +146,21 @@ SsStatus ssGetStats(SsContext context, SsStats* out) {
   });
 }
 
+SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_t height, float* rgba) {
+  return guarded("ssGetPass", [&] { renderer(context).readPass(pass, width, height, rgba); });
+}
+
+SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback callback, void* user) {
+  return guarded("ssSetProgressCallback", [&] {
+    subsplat::Renderer& r = renderer(context);
+    if (callback == nullptr) {
+      r.setProgress(nullptr);
+      return;
+    }
+    r.setProgress([callback, user](double fraction) { return callback(float(fraction), user) == 0; });
+  });
+}
+
 SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out) {
   return guarded("ssGetProfileInfo", [&] {
     const SsMaterialDesc& m = deref(material, "material");

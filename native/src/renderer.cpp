@@ -1,5 +1,7 @@
 #include "renderer.h"
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,7 +20,11 @@ Renderer::Renderer() {
 }
 
 void Renderer::setSettings(const SsSettings& s) {
-  require(s.method == SS_METHOD_BRUTE, "unknown method " + std::to_string(s.method));
+  require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_REFERENCE,
+          "unknown method " + std::to_string(s.method));
+  require(s.reference_samples == 0 || (s.reference_samples >= 1000 && s.reference_samples <= 100000000),
+          "reference samples must be 0 (the default) or in [1e3, 1e8], got " +
+              std::to_string(s.reference_samples));
   require(s.irradiance_resolution >= 16 && s.irradiance_resolution <= 8192,
           "irradiance resolution must be in [16, 8192], got " + std::to_string(s.irradiance_resolution));
   if (s.irradiance_resolution > maxTextureSize_)
@@ -26,6 +32,7 @@ void Renderer::setSettings(const SsSettings& s) {
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
+  if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
 }
 
 void Renderer::uploadMaterials() {
@@ -91,6 +98,11 @@ void Renderer::render(int width, int height, float* rgba) {
     fail(SS_LIMIT_EXCEEDED, "render size " + std::to_string(width) + " x " + std::to_string(height) +
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
   if (!scene_.hasCamera()) fail(SS_INVALID_ARGUMENT, "no camera was set");
+  lastMethod_ = -1;
+  if (settings_.method == SS_METHOD_REFERENCE) {
+    renderReference(width, height, rgba);
+    return;
+  }
   gl::StateGuard guard;
   while (glGetError() != GL_NO_ERROR) {  // errors left by the host are not ours
   }
@@ -162,6 +174,52 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.height = height;
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
+}
+
+void Renderer::renderReference(int width, int height, float* rgba) {
+  {
+    gl::StateGuard guard;  // material resolution updates per-triangle buffers
+    scene_.resolveMaterials();
+  }
+  ReferenceOptions options;
+  options.samples = settings_.reference_samples;
+  options.background = glm::make_vec4(settings_.background);
+  SsStats stats{};
+  reference_.render(scene_, options, width, height, rgba, progress_, stats);
+  stats_ = stats;
+  lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
+}
+
+void Renderer::readPass(int pass, int width, int height, float* rgba) {
+  require(rgba != nullptr, "output buffer is NULL");
+  require(pass == SS_PASS_EXITANCE, "unknown pass " + std::to_string(pass));
+  if (lastMethod_ < 0) fail(SS_INVALID_ARGUMENT, "there is no successful render to read a pass from");
+  require(width == lastWidth_ && height == lastHeight_,
+          "pass size " + std::to_string(width) + " x " + std::to_string(height) + " differs from the last render's " +
+              std::to_string(lastWidth_) + " x " + std::to_string(lastHeight_));
+  size_t pixels = size_t(width) * height;
+  if (lastMethod_ == SS_METHOD_REFERENCE) {
+    std::copy(reference_.exitance().begin(), reference_.exitance().begin() + 4 * pixels, rgba);
+    return;
+  }
+  gl::StateGuard guard;
+  std::vector<float> normalMaterial(pixels * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glBindTexture(GL_TEXTURE_2D, splatting_.normalMaterial());
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, normalMaterial.data());
+  glBindTexture(GL_TEXTURE_2D, splats_.exitance());
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, rgba);
+  gl::checkErrors("pass read-back");
+  const auto& materials = scene_.denseMaterials();
+  for (size_t i = 0; i < pixels; ++i) {
+    int m = int(normalMaterial[4 * i + 3]);
+    bool translucent = m >= 0 && size_t(m) < materials.size() && materials[size_t(m)].kernel;
+    float* e = rgba + 4 * i;
+    if (!translucent) e[0] = e[1] = e[2] = 0.0f;
+    e[3] = translucent ? 1.0f : 0.0f;
+  }
 }
 
 }  // namespace subsplat

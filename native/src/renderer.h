@@ -4,25 +4,31 @@
 #include "pipeline/buffers.h"
 #include "pipeline/splatting.h"
 #include "pipeline/stage_profiler.h"
+#include "reference/reference_renderer.h"
 #include "scene.h"
 
 namespace subsplat {
 
 class Renderer {
  public:
+  static constexpr uint32_t kDefaultReferenceSamples = 200000;
   Renderer();
   Scene& scene() { return scene_; }
   void setSettings(const SsSettings& settings);
   void render(int width, int height, float* rgba);
   const SsStats& stats() const { return stats_; }
+  void setProgress(ProgressFunction progress) { progress_ = std::move(progress); }
+  // A pass of the last successful render (SsPass), width x height RGBA.
+  void readPass(int pass, int width, int height, float* rgba);
 
  private:
   void uploadMaterials();
   // Coverage figures of the frame for SsStats (tests and the UI read them).
   void countCoverage(int width, int height, const float* rgba);
+  void renderReference(int width, int height, float* rgba);
 
   Scene scene_;
-  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}};
+  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, 200000};
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;
@@ -32,6 +38,9 @@ class Renderer {
   gl::Texture kernelTable_;
   uint64_t uploadedMaterialVersion_ = ~0ull;
   GLint maxTextureSize_ = 0;
+  ReferenceRenderer reference_;
+  ProgressFunction progress_;
+  int lastMethod_ = -1, lastWidth_ = 0, lastHeight_ = 0;  // of the last successful render
 };
 
 }  // namespace subsplat

@@ -125,6 +125,9 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
   mesh.materialIds.assign(d.triangle_count, d.default_material);
   if (d.triangle_materials)
     mesh.materialIds.assign(d.triangle_materials, d.triangle_materials + d.triangle_count);
+  mesh.cpuPositions.assign(p, p + d.vertex_count);
+  mesh.cpuNormals = normals;
+  mesh.cpuIndices.assign(d.indices, d.indices + 3 * size_t(d.triangle_count));
   for (uint32_t v = 0; v < d.vertex_count; ++v)
     mesh.worldBounds.extend(glm::vec3(mesh.objectToWorld * glm::vec4(p[v], 1.0f)));
   require(glm::all(glm::lessThan(glm::abs(mesh.worldBounds.lo), glm::vec3(1e15f))) &&
@@ -222,6 +225,7 @@ void Scene::resolveMaterials() {
     }
     glBindBuffer(GL_TEXTURE_BUFFER, mesh.triangleMaterialBuffer.id());
     glBufferSubData(GL_TEXTURE_BUFFER, 0, GLsizeiptr(dense.size() * sizeof(uint32_t)), dense.data());
+    mesh.denseMaterials = std::move(dense);
   }
   gl::checkErrors("material resolution");
   resolvedVersion_ = materialVersion_;

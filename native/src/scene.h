@@ -31,6 +31,10 @@ struct Mesh {
   gl::Buffer positions, normals, indices, triangleMaterialBuffer;
   gl::Texture triangleMaterials;  // buffer texture of dense material indices
   std::vector<uint32_t> materialIds; // caller's material id per triangle
+  // CPU copies for REFERENCE (object space; normals after repair).
+  std::vector<glm::vec3> cpuPositions, cpuNormals;
+  std::vector<uint32_t> cpuIndices;
+  std::vector<uint32_t> denseMaterials;  // per triangle, after resolveMaterials()
   uint32_t triangleCount = 0;
   glm::mat4 objectToWorld{1.0f};
   Bounds worldBounds;

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 1
+#define SS_API_VERSION 2
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -38,13 +38,15 @@ typedef enum SsStatus {
   SS_OUT_OF_MEMORY = 3,
   SS_GL_ERROR = 4,         /* no GL context, missing features, shader build */
   SS_LIMIT_EXCEEDED = 5,   /* sizes beyond GL limits or the memory budget */
-  SS_INTERNAL_ERROR = 6
+  SS_INTERNAL_ERROR = 6,
+  SS_CANCELLED = 7         /* the progress callback asked to stop */
 } SsStatus;
 
 typedef struct SsContext_* SsContext;
 
 typedef enum SsMethod {
-  SS_METHOD_BRUTE = 0 /* every finest-level texel splatted (Shah et al. 2009) */
+  SS_METHOD_BRUTE = 0,    /* every finest-level texel splatted (Shah et al. 2009) */
+  SS_METHOD_REFERENCE = 4 /* ground truth: eq. 4/5 in object space on the CPU (Embree) */
 } SsMethod;
 
 typedef enum SsLightType {
@@ -104,6 +106,9 @@ typedef struct SsSettings {
   int32_t method;                /* SsMethod */
   int32_t irradiance_resolution; /* texels per side of each irradiance view */
   float background[4];           /* RGBA written where no object is hit */
+  /* REFERENCE: surface samples over all translucent surfaces together, spread
+   * by area (at least one per triangle), in [1e3, 1e8]; 0 for the default, 2e5. */
+  uint32_t reference_samples;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -126,7 +131,22 @@ typedef struct SsStats {
   uint64_t translucent_pixels;      /* pixels showing a translucent surface */
   uint64_t lit_translucent_pixels;  /* of those, with finite exitance > 0 */
   uint64_t nonfinite_pixels;        /* pixels of the result that are NaN or infinite */
+  /* Work of the profile sums: R_d evaluations (REFERENCE; 0 for the GPU methods,
+   * whose work is fragment_invocations). For REFERENCE, stage_ms are CPU wall
+   * times: BUFFERS = surface samples and their irradiance, SPLATTING = camera
+   * rays, exitance sums and shading. */
+  uint64_t kernel_evaluations;
 } SsStats;
+
+/* Images of the last render besides the result, same size, bottom row first. */
+typedef enum SsPass {
+  SS_PASS_EXITANCE = 0  /* rgb: B(x_o) of eq. 5 (W / unit^2); a: 1 on translucent pixels */
+} SsPass;
+
+/* Called from the thread that called ssRender while a long render (REFERENCE)
+ * runs, with the fraction done; return non-zero to stop it (ssRender then
+ * returns SS_CANCELLED). */
+typedef int32_t (*SsProgressCallback)(float fraction, void* user);
 
 /* Library */
 SS_API int32_t ssGetApiVersion(void);
@@ -148,6 +168,10 @@ SS_API SsStatus ssSetSettings(SsContext context, const SsSettings* settings);
 /* Renders width x height and writes linear RGBA floats, bottom row first. */
 SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);
 SS_API SsStatus ssGetStats(SsContext context, SsStats* out);
+/* Copies a pass of the last successful render: width * height RGBA floats. */
+SS_API SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_t height, float* rgba_out);
+/* NULL callback: none. */
+SS_API SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback callback, void* user);
 
 /* Material model, no GL needed. */
 typedef struct SsProfileInfo {

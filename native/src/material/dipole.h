@@ -33,6 +33,8 @@ class Dipole {
 
   double reducedAlbedo() const { return albedo_; }
   double effectiveExtinction() const { return sigmaTr_; }
+  double realSourceDepth() const { return zr_; }     // z_r = 1 / sigma_t'
+  double virtualSourceHeight() const { return zv_; } // z_v = z_r (1 + 4A/3)
 
  private:
   double albedo_ = 0, sigmaTr_ = 0, zr_ = 0, zv_ = 0;

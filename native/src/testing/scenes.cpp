@@ -21,6 +21,43 @@ SsMeshDesc Quad::desc(float halfSize, uint32_t material) const {
   return d;
 }
 
+Sphere::Sphere(int segments, int rings) {
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      float theta = float(M_PI) * float(r) / float(rings), phi = 2.0f * float(M_PI) * float(s) / float(segments);
+      glm::vec3 n(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      positions.insert(positions.end(), {n.x, n.y, n.z});
+      normals.insert(normals.end(), {n.x, n.y, n.z});
+    }
+  auto vertex = [segments](int r, int s) { return uint32_t(r * (segments + 1) + s); };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      if (r > 0) indices.insert(indices.end(), {vertex(r, s), vertex(r + 1, s), vertex(r, s + 1)});
+      if (r < rings - 1) indices.insert(indices.end(), {vertex(r, s + 1), vertex(r + 1, s), vertex(r + 1, s + 1)});
+    }
+}
+
+SsMeshDesc Sphere::desc(const glm::vec3& centre, float radius, uint32_t material) const {
+  SsMeshDesc d{};
+  d.positions = positions.data();
+  d.normals = normals.data();
+  d.vertex_count = uint32_t(positions.size() / 3);
+  d.indices = indices.data();
+  d.triangle_count = uint32_t(indices.size() / 3);
+  d.default_material = material;
+  glm::mat4 m = glm::scale(glm::translate(glm::mat4(1.0f), centre), glm::vec3(radius));
+  std::memcpy(d.object_to_world, glm::value_ptr(m), sizeof d.object_to_world);
+  return d;
+}
+
+SsMaterialDesc skinMaterial(float mmPerUnit) {
+  SsMaterialDesc m = marbleMaterial(mmPerUnit);
+  const float sa[3] = {0.032f, 0.17f, 0.48f}, ss[3] = {0.74f, 0.88f, 1.01f};
+  std::memcpy(m.sigma_a, sa, sizeof sa);
+  std::memcpy(m.sigma_s_prime, ss, sizeof ss);
+  return m;
+}
+
 SsMaterialDesc marbleMaterial(float mmPerUnit) {
   SsMaterialDesc m{};
   m.kind = SS_MATERIAL_DIPOLE;

@@ -16,7 +16,16 @@ struct Quad {
   SsMeshDesc desc(float halfSize, uint32_t material) const;
 };
 
+// A UV sphere of unit radius with smooth normals.
+struct Sphere {
+  explicit Sphere(int segments = 48, int rings = 24);
+  std::vector<float> positions, normals;
+  std::vector<uint32_t> indices;
+  SsMeshDesc desc(const glm::vec3& centre, float radius, uint32_t material) const;
+};
+
 SsMaterialDesc marbleMaterial(float mmPerUnit);
+SsMaterialDesc skinMaterial(float mmPerUnit);  // Skin1, Jensen et al. 2001
 // Orthographic camera looking down -z at the origin from z = 5.
 SsCameraDesc topDownCamera(float halfWidth);
 SsLightDesc sunLight(float strength, float incidenceDegrees);

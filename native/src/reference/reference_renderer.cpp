@@ -1,0 +1,377 @@
+#include "reference/reference_renderer.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "material/dipole.h"
+#include "pipeline/buffers.h"
+#include "reference/lighting.h"
+#include "reference/ray_scene.h"
+#include "util/error.h"
+
+namespace subsplat {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// One material's dipole in scene units (R_d in 1 / unit^2), and its surface terms.
+struct Profile {
+  bool translucent = false;
+  double scale[3]{}, zr2[3]{}, zv2[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
+  double support = 0.0, minZr = 0.0;
+  float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
+  glm::vec3 baseColor{0.0f};
+
+  explicit Profile(const SsMaterialDesc& d)
+      : translucent(d.kind == SS_MATERIAL_DIPOLE), eta(d.eta), roughness(d.roughness),
+        specular(d.specular), baseColor(glm::make_vec3(d.base_color)) {
+    if (!translucent) return;
+    minZr = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) {
+      Dipole dipole({d.sigma_a[c], d.sigma_s_prime[c], d.eta});
+      double unit = d.mm_per_unit;  // mm per scene unit
+      scale[c] = dipole.reducedAlbedo() / (4.0 * M_PI);
+      zr[c] = dipole.realSourceDepth() / unit;
+      zv[c] = dipole.virtualSourceHeight() / unit;
+      zr2[c] = zr[c] * zr[c];
+      zv2[c] = zv[c] * zv[c];
+      sigmaTr[c] = dipole.effectiveExtinction() * unit;
+      support = std::max(support, dipole.radiusForEnergy(ReferenceRenderer::kSupportEnergy) / unit);
+      minZr = std::min(minZr, zr[c]);
+    }
+  }
+
+  // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.cpp).
+  void evaluate(double r2, double out[3]) const {
+    for (int c = 0; c < 3; ++c) {
+      double dr2 = r2 + zr2[c], dv2 = r2 + zv2[c];
+      double dr = std::sqrt(dr2), dv = std::sqrt(dv2);
+      double real = zr[c] * (sigmaTr[c] + 1.0 / dr) * std::exp(-sigmaTr[c] * dr) / dr2;
+      double virt = zv[c] * (sigmaTr[c] + 1.0 / dv) * std::exp(-sigmaTr[c] * dv) / dv2;
+      out[c] = scale[c] * (real + virt);
+    }
+  }
+};
+
+// R_d(x_i, x_o) = sqrt(P_i(r) P_o(r)) (eq. 8); one profile when they agree.
+struct ProfilePair {
+  const Profile* in;
+  const Profile* out;
+  double finestCell;
+
+  void evaluate(double r2, double k[3]) const {
+    in->evaluate(r2, k);
+    if (in == out) return;
+    double o[3];
+    out->evaluate(r2, o);
+    for (int c = 0; c < 3; ++c) k[c] = std::sqrt(k[c] * o[c]);
+  }
+};
+
+struct SurfaceSample {
+  glm::vec3 position;   // the cell's centroid
+  glm::vec3 corners[3];
+  glm::vec3 flux;       // E dA, W
+  float diameter;       // longest edge of the cell
+  uint32_t material;
+};
+
+// The samples of one object, sorted into a uniform grid.
+struct ObjectSamples {
+  std::vector<SurfaceSample> samples;
+  std::vector<uint32_t> cellStart;  // cells + 1 offsets into samples
+  glm::vec3 origin{0.0f};
+  float cellSize = 1.0f;
+  glm::ivec3 dims{1};
+  double support = 0.0;
+
+  void buildGrid() {
+    Bounds b;
+    for (const SurfaceSample& s : samples) b.extend(s.position);
+    origin = b.lo;
+    glm::vec3 extent = glm::max(b.hi - b.lo, glm::vec3(1e-6f));
+    cellSize = float(std::max(support * 0.5, 1e-9));
+    // At most about 4M cells: bigger cells only cost time, never accuracy.
+    while (double(extent.x / cellSize + 1) * (extent.y / cellSize + 1) * (extent.z / cellSize + 1) > 4.0e6)
+      cellSize *= 1.5f;
+    dims = glm::ivec3(extent / cellSize) + 1;
+    size_t cells = size_t(dims.x) * dims.y * dims.z;
+    std::vector<uint32_t> cellOf(samples.size());
+    cellStart.assign(cells + 1, 0);
+    for (size_t i = 0; i < samples.size(); ++i) {
+      cellOf[i] = uint32_t(cellIndex(cellCoord(samples[i].position)));
+      ++cellStart[cellOf[i] + 1];
+    }
+    for (size_t c = 0; c < cells; ++c) cellStart[c + 1] += cellStart[c];
+    std::vector<SurfaceSample> sorted(samples.size());
+    std::vector<uint32_t> fill(cellStart.begin(), cellStart.end() - 1);
+    for (size_t i = 0; i < samples.size(); ++i) sorted[fill[cellOf[i]]++] = samples[i];  // stable
+    samples = std::move(sorted);
+  }
+  glm::ivec3 cellCoord(const glm::vec3& p) const {
+    return glm::clamp(glm::ivec3(glm::floor((p - origin) / cellSize)), glm::ivec3(0), dims - 1);
+  }
+  size_t cellIndex(const glm::ivec3& c) const { return (size_t(c.z) * dims.y + c.y) * dims.x + c.x; }
+};
+
+// Flux of one cell, refined into four while it is large against its distance
+// to x_o (its irradiance stays the sample's).
+void addCell(const glm::dvec3& xo, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+             const glm::dvec3& flux, const ProfilePair& pair, int depth, glm::dvec3& sum,
+             uint64_t& evaluations) {
+  glm::dvec3 centroid = (a + b + c) / 3.0;
+  glm::dvec3 offset = xo - centroid;
+  double r2 = glm::dot(offset, offset);
+  double diameter = std::sqrt(std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)}));
+  double limit = ReferenceRenderer::kRefineRatio * std::sqrt(r2);
+  if (depth < ReferenceRenderer::kMaxDepth && diameter > limit && diameter > pair.finestCell) {
+    glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a), quarter = 0.25 * flux;
+    addCell(xo, a, ab, ca, quarter, pair, depth + 1, sum, evaluations);
+    addCell(xo, ab, b, bc, quarter, pair, depth + 1, sum, evaluations);
+    addCell(xo, ca, bc, c, quarter, pair, depth + 1, sum, evaluations);
+    addCell(xo, ab, bc, ca, quarter, pair, depth + 1, sum, evaluations);
+    return;
+  }
+  double k[3];
+  pair.evaluate(r2, k);
+  ++evaluations;
+  sum += glm::dvec3(k[0], k[1], k[2]) * flux;
+}
+
+// B(x_o): every sample of the object within the support (eq. 5).
+glm::dvec3 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const Profile& outProfile,
+                      const std::vector<Profile>& profiles, uint64_t& evaluations) {
+  glm::dvec3 sum(0.0);
+  double support = object.support;
+  double support2 = support * support;
+  glm::ivec3 lo = object.cellCoord(xo - glm::vec3(float(support)));
+  glm::ivec3 hi = object.cellCoord(xo + glm::vec3(float(support)));
+  glm::dvec3 x(xo);
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        size_t cell = object.cellIndex({cx, y, z});
+        for (uint32_t i = object.cellStart[cell]; i < object.cellStart[cell + 1]; ++i) {
+          const SurfaceSample& s = object.samples[i];
+          glm::dvec3 offset = x - glm::dvec3(s.position);
+          double r2 = glm::dot(offset, offset);
+          if (r2 >= support2) continue;
+          const Profile& in = profiles[s.material];
+          ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
+          double diameter = s.diameter;
+          if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(r2) && diameter > pair.finestCell) {
+            addCell(x, s.corners[0], s.corners[1], s.corners[2], s.flux, pair, 0, sum, evaluations);
+            continue;
+          }
+          double k[3];
+          pair.evaluate(r2, k);
+          ++evaluations;
+          sum += glm::dvec3(k[0], k[1], k[2]) * glm::dvec3(s.flux);
+        }
+      }
+  return sum;
+}
+
+glm::vec3 interpolate(const std::vector<glm::vec3>& values, const glm::uvec3& t, const glm::vec3& w) {
+  return w.x * values[t.x] + w.y * values[t.y] + w.z * values[t.z];
+}
+
+// A point just off the surface on the side the direction leaves towards.
+glm::vec3 offsetOrigin(const glm::vec3& p, const glm::vec3& geometricNormal, const glm::vec3& direction,
+                       float epsilon) {
+  return p + geometricNormal * (glm::dot(geometricNormal, direction) >= 0.0f ? epsilon : -epsilon);
+}
+
+bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light) {
+  float eps = rays.epsilon();
+  glm::vec3 origin = offsetOrigin(p, ng, light.towardsLight, eps);
+  float far = std::isinf(light.distance) ? std::numeric_limits<float>::infinity()
+                                         : std::max(light.distance - 2.0f * eps, 0.0f);
+  return !rays.occluded(origin, light.towardsLight, 0.0f, far);
+}
+
+struct TriangleCells {
+  uint32_t mesh, triangle, cuts;  // cuts x cuts cells
+  size_t first;                   // index of its first sample in its object
+};
+
+}  // namespace
+
+void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& options, int width, int height,
+                               float* rgba, const ProgressFunction& progress, SsStats& stats) {
+  auto frameStart = Clock::now();
+  std::vector<Profile> profiles;
+  for (const Material& m : scene.denseMaterials()) profiles.emplace_back(m.desc);
+  RayScene rays(scene);
+  const auto& meshes = rays.meshes();
+  const auto& lights = scene.lights();
+
+  // 1. Cells: by area, at least one per triangle.
+  double totalArea = 0.0;
+  auto triangleArea = [&](const WorldMesh& m, uint32_t t) {
+    glm::uvec3 i = m.triangle(t);
+    return 0.5 * double(glm::length(glm::cross(m.positions[i.y] - m.positions[i.x], m.positions[i.z] - m.positions[i.x])));
+  };
+  for (const WorldMesh& m : meshes)
+    for (uint32_t t = 0; t < m.mesh->triangleCount; ++t)
+      if (profiles[(*m.materials)[t]].translucent) totalArea += triangleArea(m, t);
+  double cellArea = totalArea / double(std::max<uint64_t>(options.samples, 1));
+  std::vector<ObjectSamples> objects(meshes.size());
+  std::vector<TriangleCells> cells;
+  size_t totalSamples = 0;
+  for (uint32_t mi = 0; mi < meshes.size(); ++mi) {
+    const WorldMesh& m = meshes[mi];
+    size_t count = 0;
+    for (uint32_t t = 0; t < m.mesh->triangleCount; ++t) {
+      const Profile& profile = profiles[(*m.materials)[t]];
+      if (!profile.translucent) continue;
+      double area = triangleArea(m, t);
+      if (!(area > 0.0)) continue;  // degenerate: no area, no flux
+      uint32_t cuts = uint32_t(std::clamp(std::lround(std::sqrt(area / cellArea)), 1l, 4096l));
+      cells.push_back({mi, t, cuts, count});
+      count += size_t(cuts) * cuts;
+      objects[mi].support = std::max(objects[mi].support, profile.support);
+    }
+    totalSamples += count;
+    if (totalSamples * sizeof(SurfaceSample) > (size_t(8) << 30))
+      fail(SS_LIMIT_EXCEEDED, "REFERENCE: " + std::to_string(totalSamples) +
+                                  " surface samples exceed the 8 GiB memory budget; lower reference_samples");
+    objects[mi].samples.resize(count);
+  }
+
+  // 2. Irradiance of every cell from shadow rays (flux E dA through it).
+  parallelFor(cells.size(), 64, [&](size_t begin, size_t end) {
+    for (size_t ci = begin; ci < end; ++ci) {
+      const TriangleCells& tc = cells[ci];
+      const WorldMesh& m = meshes[tc.mesh];
+      glm::uvec3 tri = m.triangle(tc.triangle);
+      uint32_t material = (*m.materials)[tc.triangle];
+      const Profile& profile = profiles[material];
+      glm::vec3 p0 = m.positions[tri.x], e1 = m.positions[tri.y] - p0, e2 = m.positions[tri.z] - p0;
+      glm::vec3 ng = glm::normalize(glm::cross(e1, e2));
+      float n = float(tc.cuts);
+      float area = 0.5f * glm::length(glm::cross(e1, e2)) / (n * n);
+      SurfaceSample* out = objects[tc.mesh].samples.data() + tc.first;
+      auto at = [&](float i, float j) { return glm::vec2(i / n, j / n); };
+      auto emit = [&](glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+        SurfaceSample& s = *out++;
+        glm::vec2 centre = (a + b + c) / 3.0f;
+        s.corners[0] = p0 + a.x * e1 + a.y * e2;
+        s.corners[1] = p0 + b.x * e1 + b.y * e2;
+        s.corners[2] = p0 + c.x * e1 + c.y * e2;
+        s.position = p0 + centre.x * e1 + centre.y * e2;
+        s.diameter = std::sqrt(std::max({glm::dot(s.corners[1] - s.corners[0], s.corners[1] - s.corners[0]),
+                                         glm::dot(s.corners[2] - s.corners[1], s.corners[2] - s.corners[1]),
+                                         glm::dot(s.corners[0] - s.corners[2], s.corners[0] - s.corners[2])}));
+        s.material = material;
+        glm::vec3 ns = interpolate(m.normals, tri, {1.0f - centre.x - centre.y, centre.x, centre.y});
+        ns = glm::dot(ns, ns) > 0.0f ? glm::normalize(ns) : ng;
+        glm::vec3 flux(0.0f);
+        for (const SsLightDesc& light : lights) {
+          LightSample ls = sampleLight(light, s.position);
+          float cosGeometric = std::abs(glm::dot(ng, ls.towardsLight));
+          if (cosGeometric <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
+          float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
+          float ft = float(fresnelTransmittance(profile.eta, cosShading));
+          if (ft <= 0.0f || !visible(rays, s.position, ng, ls)) continue;
+          flux += ls.irradiance * (cosGeometric * ft * area);
+        }
+        s.flux = flux;
+      };
+      for (uint32_t i = 0; i < tc.cuts; ++i)
+        for (uint32_t j = 0; i + j < tc.cuts; ++j) {
+          emit(at(i, j), at(i + 1, j), at(i, j + 1));
+          if (i + j + 2 <= tc.cuts) emit(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+  }, progress, 0.0, 0.1);
+  for (ObjectSamples& o : objects)
+    if (!o.samples.empty()) o.buildGrid();
+  double samplesMs = msSince(frameStart);
+
+  // 3. Camera rays, B(x_o) and shading, row by row.
+  auto pixelsStart = Clock::now();
+  const SsCameraDesc& camera = scene.camera();
+  glm::mat4 clipToWorld = glm::inverse(glm::make_mat4(camera.view_to_clip) * glm::make_mat4(camera.world_to_view));
+  glm::vec3 cameraPos = cameraPosition(camera), forward = cameraForward(camera);
+  exitance_.assign(size_t(width) * height * 4, 0.0f);
+  std::atomic<uint64_t> evaluationsTotal{0};
+  parallelFor(size_t(height), 1, [&](size_t begin, size_t end) {
+    uint64_t evaluations = 0;
+    for (size_t y = begin; y < end; ++y)
+      for (int x = 0; x < width; ++x) {
+        size_t pixel = y * size_t(width) + size_t(x);
+        float* out = rgba + 4 * pixel;
+        glm::vec2 ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, (float(y) + 0.5f) / float(height) * 2.0f - 1.0f);
+        glm::vec4 nearH = clipToWorld * glm::vec4(ndc, -1.0f, 1.0f), farH = clipToWorld * glm::vec4(ndc, 1.0f, 1.0f);
+        glm::vec3 nearP = glm::vec3(nearH) / nearH.w, farP = glm::vec3(farH) / farH.w;
+        glm::vec3 direction = farP - nearP;
+        float length = glm::length(direction);
+        Hit hit = length > 0.0f ? rays.intersect(nearP, direction / length, 0.0f, length) : Hit{};
+        if (!hit.valid()) {
+          for (int c = 0; c < 4; ++c) out[c] = options.background[c];
+          continue;
+        }
+        const WorldMesh& m = meshes[size_t(hit.mesh)];
+        glm::uvec3 tri = m.triangle(hit.triangle);
+        glm::vec3 w(1.0f - hit.u - hit.v, hit.u, hit.v);
+        glm::vec3 p = interpolate(m.positions, tri, w);
+        glm::vec3 ng = glm::normalize(glm::cross(m.positions[tri.y] - m.positions[tri.x], m.positions[tri.z] - m.positions[tri.x]));
+        glm::vec3 n = interpolate(m.normals, tri, w);
+        n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
+        glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
+        if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
+        const Profile& profile = profiles[(*m.materials)[hit.triangle]];
+
+        glm::vec3 color(0.0f);
+        for (const SsLightDesc& light : lights) {
+          LightSample ls = sampleLight(light, p);
+          float nl = glm::dot(n, ls.towardsLight);
+          if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f) || !visible(rays, p, ng, ls)) continue;
+          glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
+          float specular = specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
+          color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
+        }
+        if (profile.translucent) {
+          glm::dvec3 b = objects[size_t(hit.mesh)].samples.empty()
+                             ? glm::dvec3(0.0)
+                             : exitanceAt(objects[size_t(hit.mesh)], p, profile, profiles, evaluations);
+          float ft = float(fresnelTransmittance(profile.eta, glm::dot(n, view)));
+          color += glm::vec3(b) * (ft / float(M_PI));
+          float* e = exitance_.data() + 4 * pixel;
+          e[0] = float(b.x), e[1] = float(b.y), e[2] = float(b.z), e[3] = 1.0f;
+        }
+        out[0] = color.x, out[1] = color.y, out[2] = color.z, out[3] = 1.0f;
+      }
+    evaluationsTotal += evaluations;
+  }, progress, 0.1, 0.9);
+
+  stats = SsStats{};
+  stats.width = width;
+  stats.height = height;
+  stats.splat_count = totalSamples;
+  stats.kernel_evaluations = evaluationsTotal.load();
+  stats.stage_ms[SS_STAGE_BUFFERS] = samplesMs;
+  stats.stage_ms[SS_STAGE_SPLATTING] = msSince(pixelsStart);
+  for (size_t i = 0; i < size_t(width) * height; ++i) {
+    const float* o = rgba + 4 * i;
+    if (!std::isfinite(o[0]) || !std::isfinite(o[1]) || !std::isfinite(o[2]) || !std::isfinite(o[3]))
+      ++stats.nonfinite_pixels;
+    const float* e = exitance_.data() + 4 * i;
+    if (e[3] == 0.0f) continue;
+    ++stats.translucent_pixels;
+    if (std::isfinite(e[0] + e[1] + e[2]) && e[0] + e[1] + e[2] > 0.0f) ++stats.lit_translucent_pixels;
+  }
+  stats.frame_ms = msSince(frameStart);
+}
+
+}  // namespace subsplat

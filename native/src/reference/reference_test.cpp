@@ -1,0 +1,167 @@
+// REFERENCE, the ruler: the analytic plane within 1 %, convergence as the
+// sample count grows, determinism, cancel, and the exitance pass.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "material/dipole.h"
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+#include "testing/scenes.h"
+
+namespace subsplat {
+namespace {
+
+class Reference : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
+  void TearDown() override { ssReleaseContext(context); }
+  std::vector<float> render(int width, int height, uint32_t samples, SsStatus expected = SS_OK) {
+    SsSettings settings{SS_METHOD_REFERENCE, 256, {0, 0, 0, 0}, samples};
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    std::vector<float> rgba(size_t(width) * height * 4);
+    EXPECT_EQ(ssRender(context, width, height, rgba.data()), expected) << ssGetLastError();
+    return rgba;
+  }
+  // A marble sphere over nothing, lit by a sun from the side and a point
+  // light behind: shadow terminators, curvature and thin-ish regions.
+  void sphereScene() {
+    SsMaterialDesc marble = testing::marbleMaterial(100.0f);
+    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+    SsMeshDesc desc = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
+    ASSERT_EQ(ssSetMesh(context, 0, &desc), SS_OK);
+    SsCameraDesc camera = testing::topDownCamera(0.35f);
+    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+    SsLightDesc lights[2] = {testing::sunLight(3.0f, 70.0f), {}};
+    lights[1].type = SS_LIGHT_POINT;
+    lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
+    lights[1].strength = 20.0f;
+    lights[1].position[0] = -0.3f, lights[1].position[2] = -0.6f;
+    ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK);
+  }
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  testing::Quad quad;
+  testing::Sphere sphere;
+};
+
+double centreMean(const std::vector<float>& rgba, int size, int c, double fraction) {
+  int x0 = int(size * (1 - fraction) / 2), x1 = size - x0;
+  double sum = 0;
+  for (int y = x0; y < x1; ++y)
+    for (int x = x0; x < x1; ++x) sum += rgba[(size_t(y) * size + x) * 4 + c];
+  return sum / double((x1 - x0) * (x1 - x0));
+}
+
+// Relative RMSE of rgb over pixels where the reference is lit.
+double relativeRmse(const std::vector<float>& image, const std::vector<float>& reference) {
+  double error = 0, norm = 0;
+  for (size_t i = 0; i < image.size(); i += 4)
+    for (int c = 0; c < 3; ++c) {
+      double d = image[i + c] - reference[i + c];
+      error += d * d;
+      norm += double(reference[i + c]) * reference[i + c];
+    }
+  return std::sqrt(error / norm);
+}
+
+// DESIGN.md's analytic plane: exitance E Rd_total, seen from above as
+// F_t(0)/pi E cos(theta) F_t(theta) Rd_total. The ruler must be within 1 %.
+TEST_F(Reference, PlaneExitanceWithinOnePercentOfDipoleTotalReflectance) {
+  SsMaterialDesc marble = testing::marbleMaterial(200.0f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  for (float incidence : {0.0f, 60.0f}) {
+    SsLightDesc sun = testing::sunLight(3.0f, incidence);
+    ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+    std::vector<float> rgba = render(24, 24, 50000);
+    double cosTheta = std::cos(incidence * M_PI / 180.0);
+    for (int c = 0; c < 3; ++c) {
+      double rdTotal = Dipole({marble.sigma_a[c], marble.sigma_s_prime[c], marble.eta}).totalReflectance();
+      double expected = fresnelTransmittance(marble.eta, 1.0) / M_PI * 3.0 * cosTheta *
+                        fresnelTransmittance(marble.eta, cosTheta) * rdTotal;
+      double ratio = centreMean(rgba, 24, c, 0.5) / expected;
+      std::printf("incidence %.0f channel %d: REFERENCE / analytic %.5f\n", incidence, c, ratio);
+      EXPECT_NEAR(ratio, 1.0, 0.01)
+          << "channel " << c << " incidence " << incidence;
+    }
+  }
+}
+
+// Error against a 16x denser reference falls with every doubling of samples.
+TEST_F(Reference, ConvergesAsSamplesIncrease) {
+  sphereScene();
+  const int size = 40;
+  std::vector<float> truth = render(size, size, 640000);
+  double previous = 1e30;
+  for (uint32_t samples : {5000u, 10000u, 20000u, 40000u}) {
+    double error = relativeRmse(render(size, size, samples), truth);
+    std::printf("samples %u: relative RMSE %.5f\n", samples, error);
+    EXPECT_LT(error, previous) << samples << " samples";
+    previous = error;
+  }
+  EXPECT_LT(previous, 0.01);
+}
+
+TEST_F(Reference, SameSceneSameImage) {
+  sphereScene();
+  std::vector<float> a = render(32, 32, 20000), b = render(32, 32, 20000);
+  EXPECT_EQ(a, b);
+}
+
+int32_t cancelAtOnce(float, void* calls) {
+  ++*static_cast<int*>(calls);
+  return 1;
+}
+
+TEST_F(Reference, ProgressCallbackCancelsPromptlyAndTheContextStaysUsable) {
+  sphereScene();
+  int calls = 0;
+  ASSERT_EQ(ssSetProgressCallback(context, cancelAtOnce, &calls), SS_OK);
+  auto start = std::chrono::steady_clock::now();
+  render(400, 400, 4000000, SS_CANCELLED);
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(calls, 1);
+  std::printf("cancelled after %.2f s\n", seconds);
+  ASSERT_EQ(ssSetProgressCallback(context, nullptr, nullptr), SS_OK);
+  std::vector<float> rgba = render(16, 16, 5000);
+  float pass[16 * 16 * 4];
+  EXPECT_EQ(ssGetPass(context, SS_PASS_EXITANCE, 16, 16, pass), SS_OK) << ssGetLastError();
+}
+
+TEST_F(Reference, ExitancePassMarksTranslucentPixelsAndHoldsB) {
+  sphereScene();
+  const int size = 32;
+  std::vector<float> rgba = render(size, size, 20000);
+  std::vector<float> pass(rgba.size());
+  ASSERT_EQ(ssGetPass(context, SS_PASS_EXITANCE, size, size, pass.data()), SS_OK) << ssGetLastError();
+  EXPECT_NE(ssGetPass(context, SS_PASS_EXITANCE, size + 1, size, pass.data()), SS_OK);
+  EXPECT_NE(ssGetPass(context, 7, size, size, pass.data()), SS_OK);
+  int translucent = 0;
+  for (size_t i = 0; i < pass.size(); i += 4) {
+    bool hit = rgba[i + 3] > 0.0f;  // the sphere is the only object
+    EXPECT_EQ(pass[i + 3], hit ? 1.0f : 0.0f);
+    translucent += hit;
+  }
+  EXPECT_GT(translucent, size * size / 2);
+  SsStats stats{};
+  ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
+  EXPECT_EQ(stats.translucent_pixels, uint64_t(translucent));
+  EXPECT_GE(stats.splat_count, 20000u * 9 / 10);
+  EXPECT_GT(stats.kernel_evaluations, 0u);
+}
+
+TEST_F(Reference, RejectsOutOfRangeSampleCounts) {
+  for (uint32_t samples : {1u, 999u, 100000001u}) {
+    SsSettings settings{SS_METHOD_REFERENCE, 256, {0, 0, 0, 0}, samples};
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT) << samples;
+  }
+}
+
+}  // namespace
+}  // namespace subsplat
