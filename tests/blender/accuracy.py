@@ -1,0 +1,170 @@
+"""Accuracy measurements shared by tests/blender/test_accuracy.py and bench/accuracy.py.
+
+Every figure compares linear radiance over the translucent pixels (those the
+exitance pass of both renders marks) against REFERENCE (docs/ACCURACY.md).
+"""
+import math
+import os
+
+import bpy
+import numpy as np
+
+import helpers
+
+EXAMPLES = ("skin_suzanne", "marble_pieces")
+# Methods charted against REFERENCE; later issues add MULTIRES, ADAPTIVE and FULL.
+METHODS = ("BRUTE",)
+
+
+def open_example(name, percentage):
+    bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "example_blends", name + ".blend"))
+    scene = bpy.context.scene
+    scene.render.resolution_percentage = percentage
+    return scene
+
+
+def render_passes(scene, method, reference_samples=None):
+    """Combined and exitance pass of one SubSplat render, plus its stats."""
+    import subsplat
+    subsplat.engine.keep_passes = True
+    scene.render.engine = "SUBSPLAT"
+    scene.subsplat.method = method
+    if reference_samples is not None:
+        scene.subsplat.reference_samples = reference_samples
+    bpy.ops.render.render()
+    error = subsplat.last_render_error()
+    if error:
+        raise RuntimeError(f"{method} render failed: {error}")
+    passes = subsplat.last_render_passes()
+    return passes["Combined"], passes["SubSplat Exitance"], subsplat.last_render_stats()
+
+
+def _errors(ours, truth):
+    rmse = math.sqrt(float(((ours - truth) ** 2).mean()))
+    relative = rmse / max(math.sqrt(float((truth ** 2).mean())), 1e-30)
+    peak = float(truth.max())
+    psnr = 20 * math.log10(peak / rmse) if rmse > 0 else float("inf")
+    return relative, psnr
+
+
+def compare(image, image_exitance, reference, reference_exitance):
+    """Relative RMSE and PSNR of image against reference over pixels both mark translucent.
+
+    relative RMSE = sqrt(mean (I - R)^2) / sqrt(mean R^2), over rgb;
+    PSNR = 20 log10(max R / RMSE), peak taken over the same pixels. The same for the
+    exitance B(x_o) alone (exitance_*): the part the splatting computes, without the
+    direct specular both share.
+    """
+    mask = (image_exitance[..., 3] > 0.5) & (reference_exitance[..., 3] > 0.5)
+    disagree = int(((image_exitance[..., 3] > 0.5) != (reference_exitance[..., 3] > 0.5)).sum())
+    ours = image[mask][:, :3].astype(np.float64)
+    truth = reference[mask][:, :3].astype(np.float64)
+    relative, psnr = _errors(ours, truth)
+    b_relative, b_psnr = _errors(image_exitance[mask][:, :3].astype(np.float64),
+                                 reference_exitance[mask][:, :3].astype(np.float64))
+    return {"relative_rmse": relative, "psnr": psnr, "exitance_relative_rmse": b_relative,
+            "exitance_psnr": b_psnr, "pixels": int(mask.sum()), "mask_disagreement": disagree,
+            "mean_ratio": float(ours.mean() / max(truth.mean(), 1e-30))}
+
+
+def _srgb(linear):
+    x = np.clip(linear, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def error_colours(image, reference, mask):
+    """|I - R| averaged over rgb, / mean R over the mask, x10 in false colour (10 % is full red)."""
+    scale = max(float(reference[mask][:, :3].mean()), 1e-12) if mask.any() else 1.0
+    t = np.clip(np.abs(image[..., :3] - reference[..., :3]).mean(axis=-1) / scale * 10.0, 0.0, 1.0)
+    rgb = np.stack([t, 1 - np.abs(2 * t - 1), 1 - t], axis=-1)
+    rgb[~mask] = 0.15
+    return rgb
+
+
+def write_strip(path, image, reference, mask):
+    """PNG: image | reference | error x10, display-referred (sRGB, exposure 1)."""
+    strip = np.concatenate([_srgb(image[..., :3]), _srgb(reference[..., :3]), error_colours(image, reference, mask)],
+                           axis=1)
+    h, w = strip.shape[:2]
+    rgba = np.concatenate([strip, np.ones((h, w, 1))], axis=-1).astype(np.float32)
+    picture = bpy.data.images.new(os.path.basename(path), w, h, float_buffer=False)
+    picture.pixels.foreach_set(rgba.ravel())
+    picture.filepath_raw = path
+    picture.file_format = "PNG"
+    picture.save()
+    bpy.data.images.remove(picture)
+    return path
+
+
+# --- REFERENCE against Cycles (Principled BSDF, Random Walk) on a thick slab --------------
+
+def _cycles_alpha(albedo):
+    """Single-scattering albedo Cycles derives from a surface albedo (Chiang et al. 2016 fit, g = 0,
+    as Cycles 3.x's subsurface_random_walk_remap)."""
+    blend = albedo ** 0.25
+    return ((1 - blend) * 1.8260523782 * math.atan(5.11246790329 * albedo) ** 1.09686102424
+            + blend * 0.496310210422 * math.atan(4.23501903650 * albedo) ** 2.40602999408)
+
+
+def cycles_surface_albedo(reduced_albedo):
+    """The Subsurface Color that makes Cycles walk with single-scattering albedo sigma_s'/sigma_t'."""
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _cycles_alpha(mid) < reduced_albedo else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def slab_scene(preset, mm_per_unit, size=64):
+    """A 4 x 4 x 1 unit slab of a measured medium under a sun from straight above."""
+    from subsplat import presets
+    _label, sigma_s_prime, sigma_a = presets.MEASURED_MEDIA[preset]
+    scene = helpers.empty_scene(size, size)
+    material = bpy.data.materials.new(preset.title())
+    material.use_nodes = True
+    settings = material.subsplat
+    settings.enabled = True
+    settings.preset = preset
+    settings.mm_per_unit = mm_per_unit
+    settings.specular = 0.0
+    # The same medium for Cycles: mean free path 1 / sigma_t' (scene units) and the surface
+    # albedo whose random walk has single-scattering albedo sigma_s' / sigma_t' (isotropic).
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    sigma_t = [s + a for s, a in zip(sigma_s_prime, sigma_a)]
+    colour = [cycles_surface_albedo(s / t) for s, t in zip(sigma_s_prime, sigma_t)]
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Subsurface Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Subsurface"].default_value = 1.0  # 3.x: also the radius scale
+    bsdf.inputs["Subsurface Radius"].default_value = [1.0 / t / mm_per_unit for t in sigma_t]
+    bsdf.inputs["Subsurface IOR"].default_value = presets.MEASURED_ETA
+    bsdf.inputs["Specular"].default_value = 0.0
+    bsdf.inputs["Roughness"].default_value = 1.0
+    bsdf.subsurface_method = "RANDOM_WALK"
+    mesh = bpy.data.meshes.new("Slab")
+    mesh.from_pydata([(x, y, z) for z in (-1.0, 0.0) for y in (-2.0, 2.0) for x in (-2.0, 2.0)], [],
+                     [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+    mesh.materials.append(material)
+    slab = bpy.data.objects.new("Slab", mesh)
+    scene.collection.objects.link(slab)
+    helpers.top_down_camera(scene, ortho_scale=1.0)
+    helpers.add_light(scene, "SUN", energy=3.0, angle=0.0)
+    return scene
+
+
+def reference_against_cycles(preset, mm_per_unit=100.0, cycles_samples=128, reference_samples=100000):
+    """Mean radiance per channel over the centre of the slab: REFERENCE, Cycles, and their ratio."""
+    scene = slab_scene(preset, mm_per_unit)
+    reference, _exitance, _stats = render_passes(scene, "REFERENCE", reference_samples)
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = cycles_samples
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = 1
+    scene.cycles.max_bounces = 4
+    scene.cycles.diffuse_bounces = 2
+    scene.cycles.glossy_bounces = 0
+    scene.cycles.transmission_bounces = 0
+    cycles = helpers.render(scene, f"cycles_slab_{preset.lower()}")
+    ours = helpers.centre(reference, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
+    theirs = helpers.centre(cycles, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
+    return ours, theirs, ours / theirs
