@@ -113,12 +113,12 @@ def write_report(args, rows, strips, convergence, cycles):
         "Radiance is what the user sees (eq. 7 plus specular); exitance is B(x_o) alone, the part the",
         "splatting computes.",
         "",
-        "| scene | method | radiance rel. RMSE | radiance PSNR (dB) | exitance rel. RMSE | exitance PSNR (dB) "
-        "| mean / REFERENCE | pixels | fragments | method s | REFERENCE s |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| scene | method | radiance rel. RMSE | radiance PSNR (dB) | worst 0.1 % share | exitance rel. RMSE "
+        "| exitance PSNR (dB) | mean / REFERENCE | pixels | fragments | method s | REFERENCE s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, method, f, seconds, reference_s, samples, fragments in rows:
-        lines.append(f"| {name} | {method} | {f['relative_rmse']:.4f} | {f['psnr']:.1f} | "
+        lines.append(f"| {name} | {method} | {f['relative_rmse']:.4f} | {f['psnr']:.1f} | {f['outlier_share']:.2f} | "
                      f"{f['exitance_relative_rmse']:.4f} | {f['exitance_psnr']:.1f} | {f['mean_ratio']:.4f} | "
                      f"{f['pixels']} | {fragments / 1e6:.0f} M | {seconds:.1f} | {reference_s:.1f} |")
     lines += ["", "Strips: method | REFERENCE | |method - REFERENCE| / mean(REFERENCE) x 10 in false colour",
@@ -126,14 +126,25 @@ def write_report(args, rows, strips, convergence, cycles):
     for name, method, path in strips:
         lines += [f"**{name}, {method}**", "", f"![{name} {method}]({path})", ""]
     lines += [
+        "*worst 0.1 % share* is the part of the squared radiance error in the worst 0.1 % of the",
+        "pixels. Where it is near 1 the error is a handful of pixels, not the surface: on",
+        "skin_suzanne they are specular highlights in the eye sockets and folds that the GPU",
+        "methods' shadow map (a 1.5-texel normal offset and 2-texel depth bias, needed against",
+        "acne at 512²) lights while REFERENCE's shadow ray finds them shadowed, and the reverse.",
+        "That is a known failure of shadow-mapped direct light, shared by every real-time method,",
+        "and the exitance column, which has no specular, does not show it.",
+        "",
         "## The bound the tests hold BRUTE to",
         "",
         "`tests/blender/test_accuracy.py` renders both examples at 25 % with REFERENCE at 200 000",
-        "samples and fails when BRUTE's relative RMSE exceeds the bound written in the test",
-        "(`BRUTE_BOUND`, with its reasoning). The error comes from the irradiance buffer's",
+        "samples and fails when BRUTE's relative RMSE of radiance or of exitance exceeds its bound",
+        "(`BRUTE_BOUND` in the test, with the figures it was set from: about twice what BRUTE",
+        "measures there). The error comes from the irradiance buffer's",
         "finite resolution: texel-sized shadow and silhouette edges, the Gaussian footprint",
         "of each texel (docs/SPLATTING.md), the profile cut at 99 % of its energy and",
-        "renormalised, and shadow-map bias in the direct light.",
+        "renormalised, and shadow-map bias in the direct light. Exitance errors at silhouettes",
+        "(the error strips' bright rims) matter little in the radiance: the Fresnel",
+        "transmittance F_t(ω_o) of eq. 7 goes to zero at grazing angles.",
         "",
     ]
     if convergence:

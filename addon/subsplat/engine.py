@@ -58,7 +58,10 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             self._render(depsgraph, width, height)
             _last_error = None
         except native.Cancelled:
+            # The user pressed Esc: nothing to report, no image to keep.
             _last_error = None
+            _last_stats.clear()
+            _last_stats["cancelled"] = True
             self.update_stats("", "SubSplat: cancelled")
         except (native.SubsplatError, export.ExportError) as error:
             _last_error = str(error)
@@ -80,6 +83,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             os._exit(1)
 
     def _render(self, depsgraph, width, height):
+        _last_stats.clear()
         scene = depsgraph.scene
         settings = scene.subsplat
         self.update_stats("", "SubSplat: exporting scene")
@@ -112,8 +116,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             self.update_stats("", f"SubSplat Reference: {settings.reference_samples} surface samples")
 
             def progress(fraction):
-                self.update_progress(fraction)
-                return not self.test_break()
+                return report_progress(self, fraction)
         else:
             self.update_stats("", "SubSplat: rendering")
         _last_passes.clear()
@@ -136,6 +139,12 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
         samples = "surface samples" if settings.method == "REFERENCE" else "splats"
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} {samples}")
+
+
+def report_progress(engine, fraction):
+    """Moves Blender's progress bar; False when the user asked to stop (Esc)."""
+    engine.update_progress(fraction)
+    return not engine.test_break()
 
 
 # Scripts that render in background mode and want to handle failures

@@ -60,10 +60,15 @@ def compare(image, image_exitance, reference, reference_exitance):
     ours = image[mask][:, :3].astype(np.float64)
     truth = reference[mask][:, :3].astype(np.float64)
     relative, psnr = _errors(ours, truth)
+    # How much of the squared error sits in the worst 0.1 % of pixels: outliers (shadow-test
+    # disagreements under a specular highlight) against error spread over the surface.
+    squared = ((ours - truth) ** 2).sum(axis=1)
+    worst = max(1, len(squared) // 1000)
+    outlier_share = float(np.sort(squared)[-worst:].sum() / max(squared.sum(), 1e-300))
     b_relative, b_psnr = _errors(image_exitance[mask][:, :3].astype(np.float64),
                                  reference_exitance[mask][:, :3].astype(np.float64))
     return {"relative_rmse": relative, "psnr": psnr, "exitance_relative_rmse": b_relative,
-            "exitance_psnr": b_psnr, "pixels": int(mask.sum()), "mask_disagreement": disagree,
+            "exitance_psnr": b_psnr, "outlier_share": outlier_share, "pixels": int(mask.sum()), "mask_disagreement": disagree,
             "mean_ratio": float(ours.mean() / max(truth.mean(), 1e-30))}
 
 
