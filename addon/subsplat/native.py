@@ -96,7 +96,10 @@ def library():
         path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libsubsplat.so")
         if not os.path.exists(path):
             raise SubsplatError(f"native library missing: {path} (build with cmake, or reinstall the add-on)")
-        lib = ctypes.CDLL(path)
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError as error:  # typically a missing system library
+            raise SubsplatError(f"cannot load {path}: {error} (on Debian: apt install libepoxy0 libembree3-3)")
         lib.ssGetApiVersion.restype = ctypes.c_int32
         lib.ssGetLastError.restype = ctypes.c_char_p
         handle = ctypes.c_void_p

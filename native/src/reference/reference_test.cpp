@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <string>
 #include <cmath>
 #include <vector>
 
@@ -154,6 +155,17 @@ TEST_F(Reference, ExitancePassMarksTranslucentPixelsAndHoldsB) {
   EXPECT_EQ(stats.translucent_pixels, uint64_t(translucent));
   EXPECT_GE(stats.splat_count, 20000u * 9 / 10);
   EXPECT_GT(stats.kernel_evaluations, 0u);
+}
+
+TEST_F(Reference, PassAndProgressCallsValidateTheirArguments) {
+  float pixel[4];
+  EXPECT_EQ(ssGetPass(nullptr, SS_PASS_EXITANCE, 1, 1, pixel), SS_INVALID_HANDLE);
+  EXPECT_EQ(ssGetPass(context, SS_PASS_EXITANCE, 1, 1, pixel), SS_INVALID_ARGUMENT);  // nothing rendered yet
+  EXPECT_EQ(ssSetProgressCallback(nullptr, cancelAtOnce, nullptr), SS_INVALID_HANDLE);
+  sphereScene();
+  render(4, 4, 1000);
+  EXPECT_EQ(ssGetPass(context, SS_PASS_EXITANCE, 4, 4, nullptr), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("NULL"), std::string::npos) << ssGetLastError();
 }
 
 TEST_F(Reference, RejectsOutOfRangeSampleCounts) {
