@@ -109,6 +109,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         native_settings.irradiance_resolution = settings.irradiance_resolution
         native_settings.background = native.Float4(*export.background(scene))
         native_settings.reference_samples = settings.reference_samples
+        native_settings.levels = settings.levels
+        native_settings.z0_factor = settings.z0_factor
+        native_settings.alpha = settings.alpha
         context.set_settings(native_settings)
 
         progress = None

@@ -8,9 +8,9 @@ import os
 
 import numpy as np
 
-API_VERSION = 2
+API_VERSION = 3
 STAGES = ("buffers", "splatting", "shading", "readback")
-METHODS = {"BRUTE": 0, "REFERENCE": 4}
+METHODS = {"BRUTE": 0, "ADAPTIVE": 2, "REFERENCE": 4}
 PASS_EXITANCE = 0
 CANCELLED = 7
 LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
@@ -70,7 +70,8 @@ class CameraDesc(ctypes.Structure):
 
 class Settings(ctypes.Structure):
     _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
-                ("background", Float4), ("reference_samples", ctypes.c_uint32)]
+                ("background", Float4), ("reference_samples", ctypes.c_uint32), ("levels", ctypes.c_int32),
+                ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):
@@ -79,7 +80,8 @@ class Stats(ctypes.Structure):
                 ("width", ctypes.c_int32), ("height", ctypes.c_int32), ("light_views", ctypes.c_int32),
                 ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32),
                 ("translucent_pixels", ctypes.c_uint64), ("lit_translucent_pixels", ctypes.c_uint64),
-                ("nonfinite_pixels", ctypes.c_uint64), ("kernel_evaluations", ctypes.c_uint64)]
+                ("nonfinite_pixels", ctypes.c_uint64), ("kernel_evaluations", ctypes.c_uint64),
+                ("levels", ctypes.c_int32), ("selected_per_level", ctypes.c_uint64 * 8)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -240,4 +242,5 @@ class Context:
             "timers_available": bool(s.timers_available), "statistics_available": bool(s.statistics_available),
             "translucent_pixels": int(s.translucent_pixels), "lit_translucent_pixels": int(s.lit_translucent_pixels),
             "nonfinite_pixels": int(s.nonfinite_pixels), "kernel_evaluations": int(s.kernel_evaluations),
+            "levels": s.levels, "selected_per_level": [int(s.selected_per_level[k]) for k in range(max(s.levels, 0))],
         }

@@ -6,6 +6,9 @@ from . import presets
 
 METHOD_ITEMS = [
     ("BRUTE", "Brute Force", "Splat every texel of the finest irradiance buffer (Shah et al. 2009): the baseline"),
+    ("ADAPTIVE", "Adaptive",
+     "Select irradiance samples from a mipmapped irradiance buffer by depth range, material range and "
+     "light angle (Chen et al. 2012, eq. 10-11); splat at one level"),
     ("REFERENCE", "Reference",
      "Ground truth: the same model summed in object space on the CPU with ray-traced shadows (slow)"),
 ]
@@ -17,6 +20,17 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     irradiance_resolution: IntProperty(
         name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,
         description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
+    levels: IntProperty(
+        name="Levels", default=3, min=1, max=8,
+        description="Adaptive: levels of the irradiance buffer hierarchy (the paper uses 3)")
+    z0_factor: FloatProperty(
+        name="Depth Threshold", default=0.03, min=1e-4, max=100.0, soft_max=1.0, precision=3,
+        description="Adaptive: z0, the largest depth range under a coarse sample, as a factor of the "
+                    "translucent objects' bounding-sphere radius")
+    alpha: FloatProperty(
+        name="Sampling Scale", default=15.0, min=0.01, max=1e4, soft_min=1.0, soft_max=100.0,
+        description="Adaptive: alpha of eq. 11; irradiance texels per effective scattering range "
+                    "(larger: finer sampling, slower)")
     reference_samples: IntProperty(
         name="Reference Samples", default=200000, min=1000, max=100000000, soft_min=10000, soft_max=4000000,
         description="Reference: surface samples spread by area over all translucent surfaces together "

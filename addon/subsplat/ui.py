@@ -25,8 +25,12 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.prop(settings, "method")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
-        else:
-            layout.prop(settings, "irradiance_resolution")
+            return
+        layout.prop(settings, "irradiance_resolution")
+        if settings.method == "ADAPTIVE":
+            layout.prop(settings, "levels")
+            layout.prop(settings, "z0_factor")
+            layout.prop(settings, "alpha")
 
 
 class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):

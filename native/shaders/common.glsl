@@ -5,7 +5,7 @@ const float PI = 3.14159265358979;
 struct Material {
   vec4 baseColorKind;  // rgb diffuse albedo (opaque), w: 0 opaque, 1 dipole
   vec4 optics;         // eta, roughness, specular, kernel layer
-  vec4 ranges;         // support radius, effective range R_P (max), 0, 0
+  vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), 0
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 

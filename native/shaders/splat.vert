@@ -1,8 +1,22 @@
-// Splatting: one vertex per irradiance texel (Shah et al. 2009, BRUTE).
+// Splatting: one vertex per irradiance texel. BRUTE draws every texel of the
+// finest level (Shah et al. 2009). The adaptive methods draw every texel of
+// every level and keep those Algorithm 1 selects (DESIGN.md's reading of it):
+// a texel is valid at level k when its depth range is below z0 and the level's
+// texel, projected onto the surface, is fine enough for the material,
+//   texel_k / |n.L| < R_P / alpha            (eq. 10, 11 with T^k = R_w / texel_k);
+// it is selected when no ancestor is valid and it is valid itself or at level 0.
+// Each level-0 texel is therefore covered by exactly one selected sample.
 uniform sampler2D irradiancePositionMaterial;
 uniform sampler2D irradianceFluxFootprint;
 uniform sampler2D irradianceNormalObject;
+uniform sampler2D irradianceDepthRange;  // levels >= 1
 uniform int resolution;
+uniform int levels;              // 1: BRUTE
+uniform int levelOffset[9];      // first vertex of each level; levelOffset[levels] = total
+uniform float z0;                // depth-range threshold, scene units
+uniform float alpha;             // eq. 11's scale
+uniform float shadowTexelSize;   // level-0 texel: absolute (sun) or at distance 1
+layout(std430, binding = 1) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {
   vec3 position;
   vec3 flux;
@@ -10,14 +24,39 @@ out SplatSample {
   float object;
   int material;
 } sampleOut;
+
+bool valid(int level, ivec2 texel) {
+  vec4 pm = texelFetch(irradiancePositionMaterial, texel, level);
+  int m = int(pm.w);
+  if (pm.w < 0.0 || !isTranslucent(m)) return false;
+  vec2 range = texelFetch(irradianceDepthRange, texel, level).rg;
+  if (range.y - range.x >= z0) return false;
+  vec3 n = texelFetch(irradianceNormalObject, texel, level).xyz;
+  float nl = max(abs(dot(n, towardsLight(pm.xyz))), 1e-3);  // grazing: finest level, never infinite
+  float texel0 = lightType == 2 ? shadowTexelSize : shadowTexelSize * distance(pm.xyz, lightPosition);
+  return float(1 << level) * texel0 / nl < materials[m].ranges.z / alpha;
+}
+
 void main() {
-  ivec2 texel = ivec2(gl_VertexID % resolution, gl_VertexID / resolution);
-  vec4 pm = texelFetch(irradiancePositionMaterial, texel, 0);
-  vec4 ff = texelFetch(irradianceFluxFootprint, texel, 0);
+  int level = 0;
+  while (level + 1 < levels && gl_VertexID >= levelOffset[level + 1]) ++level;
+  int size = max(resolution >> level, 1);
+  int index = gl_VertexID - levelOffset[level];
+  ivec2 texel = ivec2(index % size, index / size);
+  sampleOut.material = -1;
+  gl_Position = vec4(0.0);
+  if (levels > 1) {
+    for (int k = level + 1; k < levels; ++k)
+      if (valid(k, texel >> (k - level))) return;
+    if (level > 0 && !valid(level, texel)) return;
+  }
+  vec4 pm = texelFetch(irradiancePositionMaterial, texel, level);
+  vec4 ff = texelFetch(irradianceFluxFootprint, texel, level);
+  int m = int(pm.w);
+  if (pm.w >= 0.0 && isTranslucent(m)) atomicAdd(selected[level], 1u);
   sampleOut.position = pm.xyz;
-  sampleOut.material = int(pm.w);
+  sampleOut.material = m;
   sampleOut.flux = ff.rgb;
   sampleOut.footprint = ff.a;
-  sampleOut.object = texelFetch(irradianceNormalObject, texel, 0).w;
-  gl_Position = vec4(0.0);
+  sampleOut.object = texelFetch(irradianceNormalObject, texel, level).w;
 }

@@ -20,8 +20,14 @@ Renderer::Renderer() {
 }
 
 void Renderer::setSettings(const SsSettings& s) {
-  require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_REFERENCE,
+  require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_ADAPTIVE || s.method == SS_METHOD_REFERENCE,
           "unknown method " + std::to_string(s.method));
+  require(s.levels >= 0 && s.levels <= 8, "levels must be 0 (the default) or in [1, 8], got " +
+                                              std::to_string(s.levels));
+  require(std::isfinite(s.z0_factor) && s.z0_factor >= 0.0f && s.z0_factor <= 100.0f,
+          "z0 factor must be 0 (the default) or in (0, 100], got " + std::to_string(s.z0_factor));
+  require(std::isfinite(s.alpha) && s.alpha >= 0.0f && s.alpha <= 1e4f,
+          "alpha must be 0 (the default) or in (0, 1e4], got " + std::to_string(s.alpha));
   require(s.reference_samples == 0 || (s.reference_samples >= 1000 && s.reference_samples <= 100000000),
           "reference samples must be 0 (the default) or in [1e3, 1e8], got " +
               std::to_string(s.reference_samples));
@@ -33,6 +39,11 @@ void Renderer::setSettings(const SsSettings& s) {
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
+  if (settings_.levels == 0) settings_.levels = kDefaultLevels;
+  if (settings_.z0_factor == 0.0f) settings_.z0_factor = kDefaultZ0Factor;
+  if (settings_.alpha == 0.0f) settings_.alpha = kDefaultAlpha;
+  // The coarsest level keeps at least one texel.
+  while ((settings_.irradiance_resolution >> (settings_.levels - 1)) < 1) --settings_.levels;
 }
 
 void Renderer::uploadMaterials() {
@@ -52,6 +63,7 @@ void Renderer::uploadMaterials() {
       g.optics[3] = float(layers++);
       g.ranges[0] = float(k.supportRadius());
       g.ranges[1] = float(std::max({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
+      g.ranges[2] = float(std::min({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
     }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
@@ -124,7 +136,9 @@ void Renderer::render(int width, int height, float* rgba) {
 
   uploadMaterials();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, materialBuffer_.id());
-  irradiance_.resize(settings_.irradiance_resolution);
+  bool adaptive = settings_.method == SS_METHOD_ADAPTIVE;
+  int levels = adaptive ? settings_.levels : 1;
+  irradiance_.resize(settings_.irradiance_resolution, levels);
   splatting_.resize(width, height);
   splats_.resize(width, height);
   shading_.resize(width, height);
@@ -140,15 +154,20 @@ void Renderer::render(int width, int height, float* rgba) {
   gl::checkErrors("splatting buffer");
 
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
+  Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
+  stats_.levels = levels;
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
       profiler.begin(SS_STAGE_BUFFERS);
       irradiance_.render(scene_, view);
+      if (adaptive) irradiance_.buildHierarchy();
       profiler.end();
       if (!translucent.empty()) {
         profiler.begin(SS_STAGE_SPLATTING);
-        stats_.splat_count += splats_.splatLevel(scene_, irradiance_, splatting_, kernelTable_.id());
+        stats_.splat_count +=
+            splats_.splatLevel(scene_, view, irradiance_, splatting_, kernelTable_.id(), selection,
+                               stats_.selected_per_level);
         profiler.end();
       }
       profiler.begin(SS_STAGE_SHADING);

@@ -12,6 +12,8 @@ namespace subsplat {
 class Renderer {
  public:
   static constexpr uint32_t kDefaultReferenceSamples = 200000;
+  static constexpr int kDefaultLevels = 3;
+  static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f;
   Renderer();
   Scene& scene() { return scene_; }
   void setSettings(const SsSettings& settings);
@@ -28,7 +30,8 @@ class Renderer {
   void renderReference(int width, int height, float* rgba);
 
   Scene scene_;
-  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, 200000};
+  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,
+                       kDefaultZ0Factor, kDefaultAlpha};
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;

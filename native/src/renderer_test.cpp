@@ -102,3 +102,93 @@ TEST_F(Render, BackgroundWhereNothingIsHit) {
 
 }  // namespace
 }  // namespace subsplat
+
+namespace subsplat {
+namespace {
+
+class Adaptive : public Render {
+ protected:
+  SsStats renderWith(int method, int size, int levels = 3, int irradiance = 256, float alpha = 0.0f) {
+    SsSettings settings{method, irradiance, {0, 0, 0, 0}, 0, levels, 0.0f, alpha};
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    last = render(size);
+    SsStats stats{};
+    EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
+    return stats;
+  }
+  Frame last{0, 0, {}};
+};
+
+// The plane test holds for adaptive selection: coarse samples carry the flux
+// of their children, so E * Rd_total is kept. A small alpha makes the coarse
+// levels fine enough for the material; at 60 degrees the depth range keeps
+// level 2 out (its texels span more than z0 along the light).
+TEST_F(Adaptive, PlaneExitanceWithinThreePercentWithCoarseSamples) {
+  SsMaterialDesc marble = testing::marbleMaterial(200.0f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  for (float incidence : {0.0f, 60.0f}) {
+    SsLightDesc sun = testing::sunLight(3.0f, incidence);
+    ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+    SsStats brute = renderWith(SS_METHOD_BRUTE, 64);
+    SsStats adaptive = renderWith(SS_METHOD_ADAPTIVE, 64, 3, 256, 0.1f);
+    double cosTheta = std::cos(incidence * M_PI / 180.0);
+    for (int c = 0; c < 3; ++c) {
+      double rdTotal = Dipole({marble.sigma_a[c], marble.sigma_s_prime[c], marble.eta}).totalReflectance();
+      double expected = fresnelTransmittance(marble.eta, 1.0) / M_PI * 3.0 * cosTheta *
+                        fresnelTransmittance(marble.eta, cosTheta) * rdTotal;
+      EXPECT_NEAR(last.centreMean(c, 0.5) / expected, 1.0, 0.03) << "channel " << c << " incidence " << incidence;
+    }
+    EXPECT_EQ(adaptive.levels, 3);
+    std::printf("incidence %.0f: selected %llu %llu %llu, brute %llu\n", incidence,
+                (unsigned long long)adaptive.selected_per_level[0], (unsigned long long)adaptive.selected_per_level[1],
+                (unsigned long long)adaptive.selected_per_level[2], (unsigned long long)brute.selected_per_level[0]);
+    EXPECT_GT(adaptive.selected_per_level[1] + adaptive.selected_per_level[2], adaptive.selected_per_level[0])
+        << "incidence " << incidence;
+    EXPECT_LT(adaptive.splat_count * 3, brute.splat_count) << "incidence " << incidence;
+  }
+}
+
+uint64_t coveredTexels(const SsStats& s) {
+  uint64_t covered = 0;
+  for (int k = 0; k < 8; ++k) covered += s.selected_per_level[k] << (2 * k);
+  return covered;
+}
+
+// Every translucent level-0 texel is covered by exactly one selected sample:
+// the level-0 texels BRUTE splats equal the sum over levels of selected
+// samples times the 4^k texels each covers. A sphere under a sun and a point
+// light (six cube faces) has curvature, silhouettes and a terminator.
+TEST_F(Adaptive, SelectionCoversEveryTexelExactlyOnce) {
+  SsMaterialDesc marble = testing::marbleMaterial(25.0f);  // blue R_P 0.22: 0.7 x the radius
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  testing::Sphere sphere;
+  SsMeshDesc desc = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &desc), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.35f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc lights[2] = {testing::sunLight(3.0f, 70.0f), {}};
+  lights[1].type = SS_LIGHT_POINT;
+  lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
+  lights[1].strength = 20.0f;
+  lights[1].position[0] = -0.3f, lights[1].position[2] = -0.6f;
+  ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK);
+  SsStats brute = renderWith(SS_METHOD_BRUTE, 32);
+  for (int levels : {2, 3, 5}) {
+    SsStats adaptive = renderWith(SS_METHOD_ADAPTIVE, 32, levels);
+    EXPECT_EQ(adaptive.levels, levels);
+    std::printf("levels %d: selected %llu %llu %llu %llu %llu, brute %llu\n", levels,
+                (unsigned long long)adaptive.selected_per_level[0], (unsigned long long)adaptive.selected_per_level[1],
+                (unsigned long long)adaptive.selected_per_level[2], (unsigned long long)adaptive.selected_per_level[3],
+                (unsigned long long)adaptive.selected_per_level[4], (unsigned long long)brute.selected_per_level[0]);
+    EXPECT_EQ(coveredTexels(adaptive), brute.selected_per_level[0]) << levels << " levels";
+    EXPECT_LT(adaptive.selected_per_level[0], brute.selected_per_level[0]) << levels << " levels";
+    for (size_t i = 0; i < last.rgba.size(); ++i) ASSERT_TRUE(std::isfinite(last.rgba[i]));
+  }
+}
+
+}  // namespace
+}  // namespace subsplat

@@ -12,8 +12,8 @@ import numpy as np
 import helpers
 
 EXAMPLES = ("skin_suzanne", "marble_pieces")
-# Methods charted against REFERENCE; later issues add MULTIRES, ADAPTIVE and FULL.
-METHODS = ("BRUTE",)
+# Methods charted against REFERENCE; MULTIRES and FULL join when they exist.
+METHODS = ("BRUTE", "ADAPTIVE")
 
 
 def open_example(name, percentage):

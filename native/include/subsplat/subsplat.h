@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 2
+#define SS_API_VERSION 3
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -46,6 +46,7 @@ typedef struct SsContext_* SsContext;
 
 typedef enum SsMethod {
   SS_METHOD_BRUTE = 0,    /* every finest-level texel splatted (Shah et al. 2009) */
+  SS_METHOD_ADAPTIVE = 2, /* adaptive sample selection (eq. 10, 11), one splatting level */
   SS_METHOD_REFERENCE = 4 /* ground truth: eq. 4/5 in object space on the CPU (Embree) */
 } SsMethod;
 
@@ -109,6 +110,12 @@ typedef struct SsSettings {
   /* REFERENCE: surface samples over all translucent surfaces together, spread
    * by area (at least one per triangle), in [1e3, 1e8]; 0 for the default, 2e5. */
   uint32_t reference_samples;
+  /* ADAPTIVE: irradiance hierarchy levels in [1, 8] (0: 3, the paper's), the depth-range
+   * threshold z0 as a factor of the translucent bounding-sphere radius (0: 0.03) and
+   * eq. 11's alpha (0: 15). */
+  int32_t levels;
+  float z0_factor;
+  float alpha;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -124,7 +131,7 @@ typedef struct SsStats {
   double frame_ms;                           /* wall time of ssRender */
   double stage_ms[SS_STAGE_COUNT];           /* GPU time per stage */
   uint64_t fragment_invocations[SS_STAGE_COUNT];
-  uint64_t splat_count;                      /* irradiance samples splatted */
+  uint64_t splat_count;                      /* translucent irradiance samples splatted (REFERENCE: surface samples) */
   int32_t width, height;
   int32_t light_views;                       /* irradiance buffers rendered */
   int32_t timers_available, statistics_available;
@@ -136,6 +143,10 @@ typedef struct SsStats {
    * times: BUFFERS = surface samples and their irradiance, SPLATTING = camera
    * rays, exitance sums and shading. */
   uint64_t kernel_evaluations;
+  /* ADAPTIVE: hierarchy levels used and irradiance samples selected at each level,
+   * summed over light views (level-0 texels covered: sum of count * 4^level). */
+  int32_t levels;
+  uint64_t selected_per_level[8];
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

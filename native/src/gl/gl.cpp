@@ -21,12 +21,12 @@ static void setFilter(GLenum target, GLenum filter) {
   glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
-Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter) {
+Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter, int levels) {
   GLuint id = 0;
   glGenTextures(1, &id);
   Texture texture(id);
   glBindTexture(GL_TEXTURE_2D, id);
-  glTexStorage2D(GL_TEXTURE_2D, 1, internalFormat, width, height);
+  glTexStorage2D(GL_TEXTURE_2D, levels, internalFormat, width, height);
   setFilter(GL_TEXTURE_2D, filter);
   checkErrors("texture allocation");
   return texture;
@@ -129,6 +129,24 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
   return program;
 }
 
+Program makeComputeProgram(const std::string& compute) {
+  Program program(glCreateProgram());
+  GLuint shader = compileShader(GL_COMPUTE_SHADER, compute);
+  glAttachShader(program.id(), shader);
+  glLinkProgram(program.id());
+  glDeleteShader(shader);
+  GLint ok = 0;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+    std::string log(size_t(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+    fail(SS_GL_ERROR, "program " + compute + " failed to link: " + log);
+  }
+  return program;
+}
+
 void checkErrors(const char* stage) {
   GLenum error = glGetError();
   if (error == GL_NO_ERROR) return;
@@ -152,6 +170,19 @@ StateGuard::StateGuard() {
   glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &arrayBuffer_);
   glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &uniformBuffer_);
   glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &shaderStorageBuffer_);
+  for (GLuint i = 0; i < kStorageBindings; ++i) {
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &storageBinding_[i]);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, i, &storageStart_[i]);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, i, &storageSize_[i]);
+  }
+  for (GLuint i = 0; i < kImageUnits; ++i) {
+    glGetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &images_[i].name);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, i, &images_[i].level);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LAYERED, i, &images_[i].layered);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, i, &images_[i].layer);
+    glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, i, &images_[i].access);
+    glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, i, &images_[i].format);
+  }
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pixelPackBuffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &pixelUnpackBuffer_);
   glGetIntegerv(GL_ACTIVE_TEXTURE, &activeTexture_);
@@ -204,7 +235,19 @@ StateGuard::~StateGuard() {
   glBindVertexArray(GLuint(vertexArray_));
   glBindBuffer(GL_ARRAY_BUFFER, GLuint(arrayBuffer_));
   glBindBuffer(GL_UNIFORM_BUFFER, GLuint(uniformBuffer_));
+  for (GLuint i = 0; i < kStorageBindings; ++i) {
+    if (storageBinding_[i] != 0 && storageSize_[i] > 0)
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, i, GLuint(storageBinding_[i]), GLintptr(storageStart_[i]),
+                        GLsizeiptr(storageSize_[i]));
+    else
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, GLuint(storageBinding_[i]));
+  }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(shaderStorageBuffer_));
+  for (GLuint i = 0; i < kImageUnits; ++i) {
+    const ImageUnit& u = images_[i];
+    glBindImageTexture(i, GLuint(u.name), u.level, u.layered ? GL_TRUE : GL_FALSE, u.layer, GLenum(u.access),
+                       GLenum(u.format ? u.format : GL_R8));
+  }
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pixelPackBuffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(pixelUnpackBuffer_));
   for (int unit = 0; unit < kUnits; ++unit) {

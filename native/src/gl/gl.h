@@ -43,7 +43,8 @@ using VertexArray = Object<deleteVertexArray>;
 using Program = Object<deleteProgram>;
 using Query = Object<deleteQuery>;
 
-Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter = GL_NEAREST);
+Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter = GL_NEAREST,
+                      int levels = 1);
 Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int layers,
                            GLenum filter = GL_NEAREST);
 Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage = GL_STATIC_DRAW);
@@ -53,6 +54,8 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
 // throws with the info log on failure.
 Program makeProgram(const std::string& vertex, const std::string& geometry,
                     const std::string& fragment);
+
+Program makeComputeProgram(const std::string& compute);
 
 // Throws SS_GL_ERROR naming the stage when glGetError reports anything.
 void checkErrors(const char* stage);
@@ -73,6 +76,13 @@ class StateGuard {
   GLint texture2D_[kUnits] = {}, texture2DArray_[kUnits] = {}, textureBuffer_[kUnits] = {};
   GLint uniformBuffer_ = 0;
   GLint shaderStorageBuffer_ = 0;
+  static constexpr int kStorageBindings = 2;  // indexed SSBO bindings the pipeline uses
+  GLint storageBinding_[kStorageBindings] = {};
+  GLint64 storageStart_[kStorageBindings] = {}, storageSize_[kStorageBindings] = {};
+  static constexpr int kImageUnits = 4;  // image units the reductions write through
+  struct ImageUnit {
+    GLint name = 0, level = 0, layered = 0, layer = 0, access = GL_READ_ONLY, format = GL_R8;
+  } images_[kImageUnits];
   GLint packAlignment_ = 4, unpackAlignment_ = 4, packRowLength_ = 0, unpackRowLength_ = 0;
   GLint blendSrcRgb_ = 0, blendDstRgb_ = 0, blendSrcAlpha_ = 0, blendDstAlpha_ = 0;
   GLint blendEqRgb_ = 0, blendEqAlpha_ = 0, depthFunc_ = 0, cullFaceMode_ = 0;

@@ -1,5 +1,7 @@
 #include "pipeline/buffers.h"
 
+#include <algorithm>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
@@ -47,17 +49,42 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
   glBindVertexArray(0);
 }
 
-void IrradianceBuffer::resize(int resolution) {
+void IrradianceBuffer::resize(int resolution, int levels) {
   if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
-  if (resolution == resolution_) return;
-  positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
-  fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
-  normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution);
+  if (resolution == resolution_ && levels == levels_) return;
+  positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
+  fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
+  normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
+  depthRange_ = gl::makeTexture2D(GL_RG32F, resolution, resolution, GL_NEAREST, levels);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
   framebuffer_ = gl::makeFramebuffer(
       {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id()}, depth_.id());
   resolution_ = resolution;
+  levels_ = levels;
+}
+
+void IrradianceBuffer::buildHierarchy() {
+  if (levels_ <= 1) return;
+  if (!reduceProgram_) reduceProgram_ = gl::makeComputeProgram("irradiance_reduce.comp");
+  GLuint p = reduceProgram_.id();
+  glUseProgram(p);
+  for (int fine = 0; fine + 1 < levels_; ++fine) {
+    int size = std::max(resolution_ >> (fine + 1), 1);
+    bindTexture(0, GL_TEXTURE_2D, positionMaterial_.id(), p, "finePositionMaterial");
+    bindTexture(1, GL_TEXTURE_2D, fluxFootprint_.id(), p, "fineFluxFootprint");
+    bindTexture(2, GL_TEXTURE_2D, normalObject_.id(), p, "fineNormalObject");
+    bindTexture(3, GL_TEXTURE_2D, fine == 0 ? lightDepth_.id() : depthRange_.id(), p, "fineDepthRange");
+    glUniform1i(uniform(p, "fineLevel"), fine);
+    glUniform2i(uniform(p, "coarseSize"), size, size);
+    glBindImageTexture(0, positionMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, fluxFootprint_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, normalObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(3, depthRange_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glDispatchCompute(GLuint((size + 7) / 8), GLuint((size + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  gl::checkErrors("irradiance hierarchy");
 }
 
 void IrradianceBuffer::render(const Scene& scene, const LightView& view) {

@@ -20,18 +20,25 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj);
 
 class IrradianceBuffer {
  public:
-  void resize(int resolution);
+  // levels: 1 for BRUTE; the hierarchy's depth for the adaptive methods.
+  void resize(int resolution, int levels = 1);
   void render(const Scene& scene, const LightView& view);
+  // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
+  void buildHierarchy();
   int resolution() const { return resolution_; }
+  int levels() const { return levels_; }
+  // rg: min and max light depth under each texel, levels 1 .. levels-1
+  // (level 0 is lightDepth()).
+  GLuint depthRange() const { return depthRange_.id(); }
   GLuint positionMaterial() const { return positionMaterial_.id(); }
   GLuint fluxFootprint() const { return fluxFootprint_.id(); }
   GLuint normalObject() const { return normalObject_.id(); }
   GLuint lightDepth() const { return lightDepth_.id(); }
 
  private:
-  int resolution_ = 0;
-  gl::Program program_;
-  gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depth_;
+  int resolution_ = 0, levels_ = 0;
+  gl::Program program_, reduceProgram_;
+  gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_;
   gl::Framebuffer framebuffer_;
 };
 

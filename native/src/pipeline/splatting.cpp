@@ -2,6 +2,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
+
 #include "material/splat_kernel.h"
 
 namespace subsplat {
@@ -24,8 +26,9 @@ void Splatting::clear() {
   glClearBufferfv(GL_COLOR, 0, zero);
 }
 
-uint64_t Splatting::splatLevel(const Scene& scene, const IrradianceBuffer& irradiance,
-                           const SplattingBuffer& splatting, GLuint kernelTable) {
+uint64_t Splatting::splatLevel(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                               const SplattingBuffer& splatting, GLuint kernelTable, const Selection& selection,
+                               uint64_t selectedPerLevel[8]) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glEnable(GL_BLEND);
@@ -35,6 +38,24 @@ uint64_t Splatting::splatLevel(const Scene& scene, const IrradianceBuffer& irrad
   glUseProgram(p);
   int res = irradiance.resolution();
   glUniform1i(uniform(p, "resolution"), res);
+  setLightUniforms(p, view);
+  int levels = selection.levels;
+  GLint offsets[9] = {};
+  for (int k = 0; k < levels; ++k) {
+    int size = std::max(res >> k, 1);
+    offsets[k + 1] = offsets[k] + size * size;
+  }
+  for (int k = levels + 1; k < 9; ++k) offsets[k] = offsets[levels];
+  glUniform1i(uniform(p, "levels"), levels);
+  glUniform1iv(uniform(p, "levelOffset"), 9, offsets);
+  glUniform1f(uniform(p, "z0"), selection.z0);
+  glUniform1f(uniform(p, "alpha"), selection.alpha);
+  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
+  if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
+  const GLuint zeros[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, counts_.id());
   glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
   glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
@@ -45,18 +66,21 @@ uint64_t Splatting::splatLevel(const Scene& scene, const IrradianceBuffer& irrad
   bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
   bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
   bindTexture(4, GL_TEXTURE_2D_ARRAY, kernelTable, p, "splatKernels");
+  bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
   glBindVertexArray(empty_.id());
-  GLuint query = 0;
-  glGenQueries(1, &query);
-  gl::Query splats(query);
-  glBeginQuery(GL_PRIMITIVES_GENERATED, query);
-  glDrawArrays(GL_POINTS, 0, res * res);
-  glEndQuery(GL_PRIMITIVES_GENERATED);
+  glDrawArrays(GL_POINTS, 0, offsets[levels]);
   glBindVertexArray(0);
   glDisable(GL_BLEND);
-  GLuint64 emitted = 0;
-  glGetQueryObjectui64v(query, GL_QUERY_RESULT, &emitted);
-  return emitted;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint counts[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+  uint64_t selected = 0;
+  for (int k = 0; k < 8; ++k) {
+    selectedPerLevel[k] += counts[k];
+    selected += counts[k];
+  }
+  return selected;
 }
 
 void Shading::resize(int width, int height) {

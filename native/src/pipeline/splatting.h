@@ -8,14 +8,24 @@
 
 namespace subsplat {
 
+// Which irradiance samples are splatted: levels == 1 takes every finest texel
+// (BRUTE); more levels select adaptively (Algorithm 1, splat.vert).
+struct Selection {
+  int levels = 1;
+  float z0 = 0.0f;     // depth-range threshold, scene units
+  float alpha = 15.0f;
+};
+
 class Splatting {
  public:
   void resize(int width, int height);
   void clear();
-  // Adds every lit translucent texel of `irradiance` to the exitance buffer;
+  // Adds the selected lit translucent samples of `irradiance` to the exitance
+  // buffer; adds the samples selected per level to `selectedPerLevel` and
   // returns the number of splats drawn.
-  uint64_t splatLevel(const Scene& scene, const IrradianceBuffer& irradiance,
-                  const SplattingBuffer& splatting, GLuint kernelTable);
+  uint64_t splatLevel(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                      const SplattingBuffer& splatting, GLuint kernelTable, const Selection& selection,
+                      uint64_t selectedPerLevel[8]);
   GLuint exitance() const { return exitance_.id(); }
 
  private:
@@ -24,6 +34,7 @@ class Splatting {
   gl::VertexArray empty_;
   gl::Texture exitance_;
   gl::Framebuffer framebuffer_;
+  gl::Buffer counts_;  // SelectionCounts (splat.vert)
 };
 
 class Shading {

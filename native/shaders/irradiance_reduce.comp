@@ -1,0 +1,51 @@
+// Irradiance buffer hierarchy (paper sec. 4, step 1): level k + 1 from the
+// 2 x 2 children at level k. Flux adds up (energy is kept), position and
+// normal average, the footprint doubles, and the depth range is the min/max
+// of the children (Nichols et al.). A coarse texel whose children are not all
+// the same translucent material of the same object is marked mixed (-3):
+// adaptive selection never picks it, so it descends to its children.
+layout(local_size_x = 8, local_size_y = 8) in;
+uniform sampler2D finePositionMaterial;
+uniform sampler2D fineFluxFootprint;
+uniform sampler2D fineNormalObject;
+uniform sampler2D fineDepthRange;  // rg: min, max; at level 0 the light depth (r)
+uniform int fineLevel;
+uniform ivec2 coarseSize;
+layout(rgba32f, binding = 0) writeonly uniform image2D coarsePositionMaterial;
+layout(rgba32f, binding = 1) writeonly uniform image2D coarseFluxFootprint;
+layout(rgba32f, binding = 2) writeonly uniform image2D coarseNormalObject;
+layout(rg32f, binding = 3) writeonly uniform image2D coarseDepthRange;
+void main() {
+  ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(c, coarseSize))) return;
+  vec3 position = vec3(0.0), flux = vec3(0.0), normal = vec3(0.0);
+  float footprint = 0.0, material = 0.0, object = 0.0;
+  vec2 range = vec2(1e30, -1e30);
+  bool same = true;
+  for (int i = 0; i < 4; ++i) {
+    ivec2 f = 2 * c + ivec2(i & 1, i >> 1);
+    vec4 pm = texelFetch(finePositionMaterial, f, fineLevel);
+    vec4 ff = texelFetch(fineFluxFootprint, f, fineLevel);
+    vec4 no = texelFetch(fineNormalObject, f, fineLevel);
+    vec2 dr = texelFetch(fineDepthRange, f, fineLevel).rg;
+    if (fineLevel == 0) dr.g = dr.r;
+    range = vec2(min(range.x, dr.x), max(range.y, dr.y));
+    if (i == 0) {
+      material = pm.w;
+      object = no.w;
+    } else if (pm.w != material || no.w != object) {
+      same = false;
+    }
+    position += pm.xyz;
+    flux += ff.rgb;
+    footprint += ff.a;
+    normal += no.xyz;
+  }
+  bool valid = same && material >= 0.0;
+  float length2 = dot(normal, normal);
+  imageStore(coarsePositionMaterial, c, vec4(0.25 * position, valid ? material : -3.0));
+  imageStore(coarseFluxFootprint, c, vec4(flux, 0.5 * footprint));  // 2 x the mean
+  imageStore(coarseNormalObject, c, vec4(length2 > 0.0 ? normal * inversesqrt(length2) : vec3(0.0, 0.0, 1.0),
+                                         valid ? object : -3.0));
+  imageStore(coarseDepthRange, c, vec4(range, 0.0, 0.0));
+}
