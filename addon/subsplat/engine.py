@@ -112,6 +112,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         native_settings.levels = settings.levels
         native_settings.z0_factor = settings.z0_factor
         native_settings.alpha = settings.alpha
+        native_settings.epsilon = settings.epsilon
+        native_settings.lambda_z = settings.lambda_z
+        native_settings.lambda_m = settings.lambda_m
         context.set_settings(native_settings)
 
         progress = None

@@ -10,7 +10,7 @@ import numpy as np
 
 API_VERSION = 3
 STAGES = ("buffers", "splatting", "shading", "readback")
-METHODS = {"BRUTE": 0, "ADAPTIVE": 2, "REFERENCE": 4}
+METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE = 0
 CANCELLED = 7
 LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
@@ -71,7 +71,8 @@ class CameraDesc(ctypes.Structure):
 class Settings(ctypes.Structure):
     _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
                 ("background", Float4), ("reference_samples", ctypes.c_uint32), ("levels", ctypes.c_int32),
-                ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float)]
+                ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
+                ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):

@@ -6,9 +6,13 @@ from . import presets
 
 METHOD_ITEMS = [
     ("BRUTE", "Brute Force", "Splat every texel of the finest irradiance buffer (Shah et al. 2009): the baseline"),
+    ("MULTIRES", "Multiresolution",
+     "Splat every finest irradiance texel, near distances into the full-resolution buffer and far "
+     "ones into coarser buffers, gathered by bilateral upsampling (Chen et al. 2012, eq. 12-17)"),
     ("ADAPTIVE", "Adaptive",
      "Select irradiance samples from a mipmapped irradiance buffer by depth range, material range and "
      "light angle (Chen et al. 2012, eq. 10-11); splat at one level"),
+    ("FULL", "Full", "Adaptive sample selection and multiresolution splatting: the paper's method"),
     ("REFERENCE", "Reference",
      "Ground truth: the same model summed in object space on the CPU with ray-traced shadows (slow)"),
 ]
@@ -22,7 +26,8 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
     levels: IntProperty(
         name="Levels", default=3, min=1, max=8,
-        description="Adaptive: levels of the irradiance buffer hierarchy (the paper uses 3)")
+        description="Levels of the irradiance (adaptive) and splatting (multiresolution) hierarchies "
+                    "(the paper uses 3)")
     z0_factor: FloatProperty(
         name="Depth Threshold", default=0.03, min=1e-4, max=100.0, soft_max=1.0, precision=3,
         description="Adaptive: z0, the largest depth range under a coarse sample, as a factor of the "
@@ -31,6 +36,16 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Sampling Scale", default=15.0, min=0.01, max=1e4, soft_min=1.0, soft_max=100.0,
         description="Adaptive: alpha of eq. 11; irradiance texels per effective scattering range "
                     "(larger: finer sampling, slower)")
+    epsilon: FloatProperty(
+        name="Error Tolerance", default=0.001, min=1e-6, max=0.5, precision=4, step=0.01,
+        description="Multiresolution: epsilon of eq. 14; the largest energy error a coarser splatting "
+                    "level may make (smaller: more work at full resolution)")
+    lambda_z: FloatProperty(
+        name="Depth Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
+        description="Multiresolution: lambda_z of eq. 17; how strongly upsampling avoids depth discontinuities")
+    lambda_m: FloatProperty(
+        name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
+        description="Multiresolution: lambda_m of eq. 17; how strongly upsampling avoids material boundaries")
     reference_samples: IntProperty(
         name="Reference Samples", default=200000, min=1000, max=100000000, soft_min=10000, soft_max=4000000,
         description="Reference: surface samples spread by area over all translucent surfaces together "

@@ -27,10 +27,15 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "reference_samples")
             return
         layout.prop(settings, "irradiance_resolution")
-        if settings.method == "ADAPTIVE":
+        if settings.method in {"MULTIRES", "ADAPTIVE", "FULL"}:
             layout.prop(settings, "levels")
+        if settings.method in {"ADAPTIVE", "FULL"}:
             layout.prop(settings, "z0_factor")
             layout.prop(settings, "alpha")
+        if settings.method in {"MULTIRES", "FULL"}:
+            layout.prop(settings, "epsilon")
+            layout.prop(settings, "lambda_z")
+            layout.prop(settings, "lambda_m")
 
 
 class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):

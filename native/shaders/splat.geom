@@ -13,6 +13,16 @@ uniform mat4 worldToView;
 uniform mat4 viewToClip;
 uniform float footprintReach;  // x sigma
 uniform vec2 kernelLog2Range;  // table rows: log2(sigma / support) at first and last
+// Multiresolution splatting (eq. 12-14): level splatLevel of splatLevels takes
+// the distances [R_min^k, R_max^k); R_min^k = R_P R-bar(T_k), T_k the pixels
+// per R_P at that level; level 0 starts at 0 and the coarsest ends at the reach.
+uniform int splatLevel;
+uniform int splatLevels;
+uniform float levelHeight[8];     // pixel rows of each splatting level
+uniform sampler2D minimalRadius;  // R-bar over log2 T, one row per kernel layer
+uniform vec2 minimalRadiusLog2T;  // log2 T at the first and last column
+uniform float kernelLayers;
+flat out vec2 splatRange;         // [R_min, R_max) of this level
 flat out float splatKernelRow; // the footprint's row of the kernel table, in [0, 1]
 flat out vec3 splatPosition;
 flat out vec3 splatFlux;
@@ -24,10 +34,29 @@ void main() {
   if (m < 0 || !isTranslucent(m)) return;
   vec3 flux = sampleIn[0].flux;
   if (max(flux.r, max(flux.g, flux.b)) <= 0.0) return;
-  float radius = footprintReach * sampleIn[0].footprint + materials[m].ranges.x;
+  float reach = footprintReach * sampleIn[0].footprint + materials[m].ranges.x;
+  vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
+  vec2 range = vec2(0.0, reach);
+  if (splatLevels > 1) {
+    float rangeP = materials[m].ranges.z;
+    float layer = (materials[m].optics.w + 0.5) / kernelLayers;
+    bool orthographic = viewToClip[3][3] > 0.5;
+    float extent = orthographic ? 2.0 / viewToClip[1][1] : 2.0 * max(-c.z, 1e-6) / viewToClip[1][1];
+    // R_min of level k (k >= 1) from R-bar at that level's resolution.
+    float rMin[2];
+    for (int j = 0; j < 2; ++j) {
+      int k = splatLevel + j;
+      if (k == 0 || k >= splatLevels) { rMin[j] = k == 0 ? 0.0 : reach; continue; }
+      float T = rangeP / (extent / levelHeight[k]);
+      float u = (log2(max(T, 1e-6)) - minimalRadiusLog2T.x) / (minimalRadiusLog2T.y - minimalRadiusLog2T.x);
+      rMin[j] = rangeP * texture(minimalRadius, vec2(clamp(u, 0.0, 1.0), layer)).r;
+    }
+    range = clamp(vec2(rMin[0], rMin[1]), 0.0, reach);
+    if (range.x >= range.y) return;
+  }
+  float radius = range.y;
 
   // Bound the sphere by the projections of its view-space box corners.
-  vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
   vec2 lo = vec2(1e30), hi = vec2(-1e30);
   bool behind = false;
   for (int i = 0; i < 8; ++i) {
@@ -47,6 +76,7 @@ void main() {
               (kernelLog2Range.y - kernelLog2Range.x);
   for (int i = 0; i < 4; ++i) {
     splatKernelRow = clamp(row, 0.0, 1.0);
+    splatRange = range;
     splatPosition = sampleIn[0].position;
     splatFlux = flux;
     splatFootprint = sampleIn[0].footprint;

@@ -16,6 +16,7 @@ uniform int levelOffset[9];      // first vertex of each level; levelOffset[leve
 uniform float z0;                // depth-range threshold, scene units
 uniform float alpha;             // eq. 11's scale
 uniform float shadowTexelSize;   // level-0 texel: absolute (sun) or at distance 1
+uniform int splatLevel;          // selections are counted in the pass of splatting level 0
 layout(std430, binding = 1) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {
   vec3 position;
@@ -53,7 +54,7 @@ void main() {
   vec4 pm = texelFetch(irradiancePositionMaterial, texel, level);
   vec4 ff = texelFetch(irradianceFluxFootprint, texel, level);
   int m = int(pm.w);
-  if (pm.w >= 0.0 && isTranslucent(m)) atomicAdd(selected[level], 1u);
+  if (splatLevel == 0 && pm.w >= 0.0 && isTranslucent(m)) atomicAdd(selected[level], 1u);
   sampleOut.position = pm.xyz;
   sampleOut.material = m;
   sampleOut.flux = ff.rgb;

@@ -20,8 +20,15 @@ Renderer::Renderer() {
 }
 
 void Renderer::setSettings(const SsSettings& s) {
-  require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_ADAPTIVE || s.method == SS_METHOD_REFERENCE,
+  require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_MULTIRES || s.method == SS_METHOD_ADAPTIVE ||
+              s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE,
           "unknown method " + std::to_string(s.method));
+  require(std::isfinite(s.epsilon) && s.epsilon >= 0.0f && s.epsilon <= 0.5f,
+          "epsilon must be 0 (the default) or in (0, 0.5], got " + std::to_string(s.epsilon));
+  require(std::isfinite(s.lambda_z) && s.lambda_z >= 0.0f && s.lambda_z <= 1e4f,
+          "lambda_z must be 0 (the default) or in (0, 1e4], got " + std::to_string(s.lambda_z));
+  require(std::isfinite(s.lambda_m) && s.lambda_m >= 0.0f && s.lambda_m <= 1e4f,
+          "lambda_m must be 0 (the default) or in (0, 1e4], got " + std::to_string(s.lambda_m));
   require(s.levels >= 0 && s.levels <= 8, "levels must be 0 (the default) or in [1, 8], got " +
                                               std::to_string(s.levels));
   require(std::isfinite(s.z0_factor) && s.z0_factor >= 0.0f && s.z0_factor <= 100.0f,
@@ -42,13 +49,18 @@ void Renderer::setSettings(const SsSettings& s) {
   if (settings_.levels == 0) settings_.levels = kDefaultLevels;
   if (settings_.z0_factor == 0.0f) settings_.z0_factor = kDefaultZ0Factor;
   if (settings_.alpha == 0.0f) settings_.alpha = kDefaultAlpha;
+  if (settings_.epsilon == 0.0f) settings_.epsilon = kDefaultEpsilon;
+  if (settings_.lambda_z == 0.0f) settings_.lambda_z = kDefaultLambda;
+  if (settings_.lambda_m == 0.0f) settings_.lambda_m = kDefaultLambda;
   // The coarsest level keeps at least one texel.
   while ((settings_.irradiance_resolution >> (settings_.levels - 1)) < 1) --settings_.levels;
 }
 
 void Renderer::uploadMaterials() {
   scene_.resolveMaterials();
-  if (uploadedMaterialVersion_ == scene_.materialVersion() && materialBuffer_) return;
+  if (uploadedMaterialVersion_ == scene_.materialVersion() && materialBuffer_ &&
+      uploadedEpsilon_ == settings_.epsilon)
+    return;
   const auto& materials = scene_.denseMaterials();
   std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
   int layers = 0;
@@ -75,8 +87,20 @@ void Renderer::uploadMaterials() {
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer, SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
                     GL_RGBA, GL_FLOAT, m.kernel->table().data());
   }
+  // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change.
+  std::vector<float> radii(size_t(SplatKernel::kRadiusTableSize) * std::max(layers, 1), 0.0f);
+  for (size_t i = 0; i < materials.size(); ++i) {
+    if (!materials[i].kernel) continue;
+    std::vector<float> row = materials[i].kernel->minimalRadiusTable(settings_.epsilon);
+    std::copy(row.begin(), row.end(), radii.begin() + size_t(gpu[i].optics[3]) * SplatKernel::kRadiusTableSize);
+  }
+  minimalRadius_ = gl::makeTexture2D(GL_R32F, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_LINEAR);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_RED, GL_FLOAT,
+                  radii.data());
+  kernelLayers_ = std::max(layers, 1);
   gl::checkErrors("material upload");
   uploadedMaterialVersion_ = scene_.materialVersion();
+  uploadedEpsilon_ = settings_.epsilon;
 }
 
 void Renderer::countCoverage(int width, int height, const float* rgba) {
@@ -136,11 +160,15 @@ void Renderer::render(int width, int height, float* rgba) {
 
   uploadMaterials();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, materialBuffer_.id());
-  bool adaptive = settings_.method == SS_METHOD_ADAPTIVE;
+  bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
+  bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   int levels = adaptive ? settings_.levels : 1;
+  int splatLevels = 1;
+  if (multires)  // while the coarsest level keeps at least one pixel
+    while (splatLevels < settings_.levels && std::max(width, height) >> splatLevels >= 1) ++splatLevels;
   irradiance_.resize(settings_.irradiance_resolution, levels);
-  splatting_.resize(width, height);
-  splats_.resize(width, height);
+  splatting_.resize(width, height, splatLevels);
+  splats_.resize(width, height, splatLevels);
   shading_.resize(width, height);
   gl::checkErrors("buffer allocation");
 
@@ -148,6 +176,7 @@ void Renderer::render(int width, int height, float* rgba) {
   StageProfiler profiler;
   profiler.begin(SS_STAGE_BUFFERS);
   splatting_.render(scene_);
+  splatting_.buildHierarchy(scene_.camera());
   profiler.end();
   splats_.clear();
   shading_.clear();
@@ -155,7 +184,8 @@ void Renderer::render(int width, int height, float* rgba) {
 
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
   Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
-  stats_.levels = levels;
+  KernelTables kernels{kernelTable_.id(), minimalRadius_.id(), kernelLayers_};
+  stats_.levels = std::max(levels, splatLevels);
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
@@ -166,8 +196,7 @@ void Renderer::render(int width, int height, float* rgba) {
       if (!translucent.empty()) {
         profiler.begin(SS_STAGE_SPLATTING);
         stats_.splat_count +=
-            splats_.splatLevel(scene_, view, irradiance_, splatting_, kernelTable_.id(), selection,
-                               stats_.selected_per_level);
+            splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, stats_.selected_per_level);
         profiler.end();
       }
       profiler.begin(SS_STAGE_SHADING);
@@ -176,6 +205,12 @@ void Renderer::render(int width, int height, float* rgba) {
       ++stats_.light_views;
       gl::checkErrors("light view");
     }
+  }
+  if (splatLevels > 1 && !translucent.empty()) {
+    profiler.begin(SS_STAGE_SPLATTING);
+    splats_.accumulate(scene_, splatting_,
+                       {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()});
+    profiler.end();
   }
   profiler.begin(SS_STAGE_SHADING);
   shading_.finalShading(scene_, splatting_, splats_.exitance(), settings_.background);

@@ -13,7 +13,8 @@ class Renderer {
  public:
   static constexpr uint32_t kDefaultReferenceSamples = 200000;
   static constexpr int kDefaultLevels = 3;
-  static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f;
+  static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f, kDefaultEpsilon = 0.001f;
+  static constexpr float kDefaultLambda = 8.0f;
   Renderer();
   Scene& scene() { return scene_; }
   void setSettings(const SsSettings& settings);
@@ -31,14 +32,16 @@ class Renderer {
 
   Scene scene_;
   SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,
-                       kDefaultZ0Factor, kDefaultAlpha};
+                       kDefaultZ0Factor, kDefaultAlpha, kDefaultEpsilon, kDefaultLambda, kDefaultLambda};
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;
   Splatting splats_;
   Shading shading_;
   gl::Buffer materialBuffer_;
-  gl::Texture kernelTable_;
+  gl::Texture kernelTable_, minimalRadius_;
+  int kernelLayers_ = 1;
+  float uploadedEpsilon_ = -1.0f;
   uint64_t uploadedMaterialVersion_ = ~0ull;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;

@@ -12,8 +12,8 @@ import numpy as np
 import helpers
 
 EXAMPLES = ("skin_suzanne", "marble_pieces")
-# Methods charted against REFERENCE; MULTIRES and FULL join when they exist.
-METHODS = ("BRUTE", "ADAPTIVE")
+# Methods charted against REFERENCE.
+METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
 
 
 def open_example(name, percentage):

@@ -46,7 +46,9 @@ typedef struct SsContext_* SsContext;
 
 typedef enum SsMethod {
   SS_METHOD_BRUTE = 0,    /* every finest-level texel splatted (Shah et al. 2009) */
+  SS_METHOD_MULTIRES = 1, /* every finest texel, multiresolution splatting (eq. 12-14, 17) */
   SS_METHOD_ADAPTIVE = 2, /* adaptive sample selection (eq. 10, 11), one splatting level */
+  SS_METHOD_FULL = 3,     /* both: the paper's method */
   SS_METHOD_REFERENCE = 4 /* ground truth: eq. 4/5 in object space on the CPU (Embree) */
 } SsMethod;
 
@@ -110,12 +112,16 @@ typedef struct SsSettings {
   /* REFERENCE: surface samples over all translucent surfaces together, spread
    * by area (at least one per triangle), in [1e3, 1e8]; 0 for the default, 2e5. */
   uint32_t reference_samples;
-  /* ADAPTIVE: irradiance hierarchy levels in [1, 8] (0: 3, the paper's), the depth-range
-   * threshold z0 as a factor of the translucent bounding-sphere radius (0: 0.03) and
-   * eq. 11's alpha (0: 15). */
+  /* MULTIRES, ADAPTIVE, FULL: levels of the irradiance and splatting hierarchies in
+   * [1, 8] (0: 3, the paper's); the depth-range threshold z0 as a factor of the
+   * translucent bounding-sphere radius (0: 0.03); eq. 11's alpha (0: 15); eq. 14's
+   * epsilon (0: 0.001); eq. 17's lambda_z and lambda_m (0: 8). */
   int32_t levels;
   float z0_factor;
   float alpha;
+  float epsilon;
+  float lambda_z;
+  float lambda_m;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -143,7 +149,7 @@ typedef struct SsStats {
    * times: BUFFERS = surface samples and their irradiance, SPLATTING = camera
    * rays, exitance sums and shading. */
   uint64_t kernel_evaluations;
-  /* ADAPTIVE: hierarchy levels used and irradiance samples selected at each level,
+  /* Hierarchy levels used and irradiance samples selected at each irradiance level,
    * summed over light views (level-0 texels covered: sum of count * 4^level). */
   int32_t levels;
   uint64_t selected_per_level[8];

@@ -40,6 +40,51 @@ double SplatKernel::tableDistance(int id, double sigma, double supportRadius) {
   return t * t * (kFootprintReach * sigma + supportRadius);
 }
 
+std::vector<float> SplatKernel::minimalRadiusTable(double epsilon) const {
+  // Mean normalised profile P(r) r on [0, 1] and its tail integrals.
+  constexpr int kFine = 4096;
+  std::vector<double> profile(kFine + 1, 0.0), tail(kFine + 2, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    double rangeMm = effectiveRange_[c] * mmPerUnit_;
+    double energy = dipoles_[c].energyWithin(rangeMm) / (2.0 * M_PI);  // integral of P(s) s ds
+    if (!(energy > 0.0) || !(rangeMm > 0.0)) continue;
+    double scale = rangeMm * rangeMm / energy / 3.0;  // C of eq. 16, averaged over channels
+    for (int i = 0; i <= kFine; ++i) {
+      double r = double(i) / kFine;
+      profile[i] += scale * dipoles_[c].diffuseReflectance(r * rangeMm) * r;
+    }
+  }
+  for (int i = kFine - 1; i >= 0; --i) tail[i] = tail[i + 1] + 0.5 * (profile[i] + profile[i + 1]) / kFine;
+  auto at = [&](double r) {  // P(r) r, linear between samples
+    double x = std::clamp(r, 0.0, 1.0) * kFine;
+    int i = std::min(int(x), kFine - 1);
+    return profile[i] + (profile[i + 1] - profile[i]) * (x - i);
+  };
+  auto tailIntegral = [&](double r) {
+    double x = std::clamp(r, 0.0, 1.0) * kFine;
+    int i = std::min(int(x), kFine - 1);
+    return tail[i] - (x - i) * 0.5 * (profile[i] + at(r)) / kFine;
+  };
+  std::vector<float> table(kRadiusTableSize, 0.0f);
+  constexpr int kSteps = 256;
+  for (int it = 0; it < kRadiusTableSize; ++it) {
+    double T = std::exp2(kMinLog2T + (kMaxLog2T - kMinLog2T) * it / (kRadiusTableSize - 1));
+    double radius = 0.0;
+    for (int j = kSteps; j >= 0; --j) {  // from r = 1 inwards until the error exceeds epsilon
+      double r = double(j) / kSteps;
+      double sum = 0.0;
+      int count = int(std::floor((1.0 - r) * T));
+      for (int m = 0; m <= count; ++m) sum += at(r + m / T);
+      if (std::abs(sum / T - tailIntegral(r)) >= epsilon) {
+        radius = std::min(1.0, double(j + 1) / kSteps);
+        break;
+      }
+    }
+    table[size_t(it)] = float(radius);
+  }
+  return table;
+}
+
 double SplatKernel::energyWithin(int c, double r) const {
   r = std::min(r, supportRadius_);
   return normalisation_[c] * dipoles_[c].energyWithin(r * mmPerUnit_);

@@ -58,6 +58,17 @@ class SplatKernel {
   // Energy of channel c within radius r (scene units), renormalised.
   double energyWithin(int c, double r) const;
 
+  // Eq. 14: the minimal effective rendering radius R-bar, as a fraction of
+  // R_P, of a splatting buffer with T pixels per R_P: the smallest r from
+  // which a Riemann sum at spacing 1 / T of the mean normalised profile
+  // (eq. 15, 16; the mean of the three channels) over [r, 1] stays within
+  // epsilon of its integral (the profile's energy within R_P is 1). Tabulated
+  // at kRadiusTableSize values of log2 T evenly in [kMinLog2T, kMaxLog2T].
+  static constexpr int kRadiusTableSize = 64;
+  static constexpr double kMinLog2T = -2.0;
+  static constexpr double kMaxLog2T = 12.0;
+  std::vector<float> minimalRadiusTable(double epsilon) const;
+
   // kSizeA rows of kSizeD RGBA texels (alpha unused), row-major.
   const std::vector<float>& table() const { return table_; }
   static double tableSigma(int ia, double supportRadius);

@@ -82,3 +82,27 @@ TEST(SplatKernel, EffectiveRangeKeeps95PercentOfEnergy) {
 
 }  // namespace
 }  // namespace subsplat
+
+namespace subsplat {
+namespace {
+
+// Eq. 14: finer splatting buffers (more pixels per R_P) can render closer to
+// the sample; R-bar falls as T grows and reaches 0 once pixels are far below
+// the profile's scale.
+TEST(MinimalRadius, FallsWithResolutionAndVanishesWhenFine) {
+  DipoleMaterial marble;
+  const double sa[3] = {0.0021, 0.0041, 0.0071}, ss[3] = {2.19, 2.62, 3.00};
+  for (int c = 0; c < 3; ++c) marble.channels[c] = {sa[c], ss[c], 1.3};
+  marble.mmPerUnit = 100.0;
+  SplatKernel kernel(marble);
+  std::vector<float> table = kernel.minimalRadiusTable(0.001);
+  ASSERT_EQ(table.size(), size_t(SplatKernel::kRadiusTableSize));
+  for (size_t i = 1; i < table.size(); ++i) EXPECT_LE(table[i], table[i - 1] + 1e-6f) << i;
+  EXPECT_GT(table.front(), 0.5f);   // a quarter pixel per R_P: only the tail
+  EXPECT_EQ(table.back(), 0.0f);    // 4096 pixels per R_P: everything
+  std::vector<float> loose = kernel.minimalRadiusTable(0.01);
+  for (size_t i = 0; i < table.size(); ++i) EXPECT_LE(loose[i], table[i] + 1e-6f) << i;
+}
+
+}  // namespace
+}  // namespace subsplat

@@ -125,15 +125,38 @@ void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
   glUniform1i(uniform(program, "orthographic"), camera.orthographic);
 }
 
-void SplattingBuffer::resize(int width, int height) {
+void SplattingBuffer::resize(int width, int height, int levels) {
   if (!program_) program_ = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag");
-  if (width == width_ && height == height_) return;
-  positionObject_ = gl::makeTexture2D(GL_RGBA32F, width, height);
-  normalMaterial_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  if (width == width_ && height == height_ && levels == levels_) return;
+  positionObject_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
+  normalMaterial_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
   framebuffer_ = gl::makeFramebuffer({positionObject_.id(), normalMaterial_.id()}, depth_.id());
   width_ = width;
   height_ = height;
+  levels_ = levels;
+}
+
+void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
+  if (levels_ <= 1) return;
+  if (!reduceProgram_) reduceProgram_ = gl::makeComputeProgram("splatting_reduce.comp");
+  GLuint p = reduceProgram_.id();
+  glUseProgram(p);
+  setCameraUniforms(p, camera);
+  for (int fine = 0; fine + 1 < levels_; ++fine) {
+    int fw = std::max(width_ >> fine, 1), fh = std::max(height_ >> fine, 1);
+    int cw = std::max(width_ >> (fine + 1), 1), ch = std::max(height_ >> (fine + 1), 1);
+    bindTexture(0, GL_TEXTURE_2D, positionObject_.id(), p, "finePositionObject");
+    bindTexture(1, GL_TEXTURE_2D, normalMaterial_.id(), p, "fineNormalMaterial");
+    glUniform1i(uniform(p, "fineLevel"), fine);
+    glUniform2i(uniform(p, "fineSize"), fw, fh);
+    glUniform2i(uniform(p, "coarseSize"), cw, ch);
+    glBindImageTexture(0, positionObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, normalMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(GLuint((cw + 7) / 8), GLuint((ch + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  gl::checkErrors("splatting hierarchy");
 }
 
 void SplattingBuffer::render(const Scene& scene) {

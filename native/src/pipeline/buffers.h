@@ -44,14 +44,17 @@ class IrradianceBuffer {
 
 class SplattingBuffer {
  public:
-  void resize(int width, int height);
+  // levels > 1: a median-depth hierarchy for multiresolution splatting.
+  void resize(int width, int height, int levels = 1);
   void render(const Scene& scene);
+  void buildHierarchy(const SsCameraDesc& camera);
+  int levels() const { return levels_; }
   GLuint positionObject() const { return positionObject_.id(); }
   GLuint normalMaterial() const { return normalMaterial_.id(); }
 
  private:
-  int width_ = 0, height_ = 0;
-  gl::Program program_;
+  int width_ = 0, height_ = 0, levels_ = 0;
+  gl::Program program_, reduceProgram_;
   gl::Texture positionObject_, normalMaterial_, depth_;
   gl::Framebuffer framebuffer_;
 };

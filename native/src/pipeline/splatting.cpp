@@ -8,29 +8,33 @@
 
 namespace subsplat {
 
-void Splatting::resize(int width, int height) {
+void Splatting::resize(int width, int height, int levels) {
   if (!program_) {
     program_ = gl::makeProgram("splat.vert", "splat.geom", "splat.frag");
     empty_ = gl::makeVertexArray();
   }
-  if (width == width_ && height == height_) return;
-  exitance_ = gl::makeTexture2D(GL_RGBA32F, width, height);
-  framebuffer_ = gl::makeFramebuffer({exitance_.id()}, 0);
+  if (width == width_ && height == height_ && levels == int(exitance_.size())) return;
+  exitance_.clear();
+  framebuffers_.clear();
+  for (int k = 0; k < levels; ++k) {
+    exitance_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
+    framebuffers_.push_back(gl::makeFramebuffer({exitance_.back().id()}, 0));
+  }
   width_ = width;
   height_ = height;
 }
 
 void Splatting::clear() {
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
+  for (const gl::Framebuffer& f : framebuffers_) {
+    glBindFramebuffer(GL_FRAMEBUFFER, f.id());
+    glClearBufferfv(GL_COLOR, 0, zero);
+  }
 }
 
-uint64_t Splatting::splatLevel(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                               const SplattingBuffer& splatting, GLuint kernelTable, const Selection& selection,
-                               uint64_t selectedPerLevel[8]) {
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, width_, height_);
+uint64_t Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                          const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+                          uint64_t selectedPerLevel[8]) {
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
@@ -61,14 +65,27 @@ uint64_t Splatting::splatLevel(const Scene& scene, const LightView& view, const 
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
+  glUniform2f(uniform(p, "minimalRadiusLog2T"), float(SplatKernel::kMinLog2T), float(SplatKernel::kMaxLog2T));
+  glUniform1f(uniform(p, "kernelLayers"), float(kernels.layers));
+  int splatLevels = int(exitance_.size());
+  GLfloat heights[8] = {};
+  for (int k = 0; k < splatLevels; ++k) heights[k] = float(std::max(height_ >> k, 1));
+  glUniform1i(uniform(p, "splatLevels"), splatLevels);
+  glUniform1fv(uniform(p, "levelHeight"), 8, heights);
   bindTexture(0, GL_TEXTURE_2D, irradiance.positionMaterial(), p, "irradiancePositionMaterial");
   bindTexture(1, GL_TEXTURE_2D, irradiance.fluxFootprint(), p, "irradianceFluxFootprint");
   bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
   bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
-  bindTexture(4, GL_TEXTURE_2D_ARRAY, kernelTable, p, "splatKernels");
+  bindTexture(4, GL_TEXTURE_2D_ARRAY, kernels.kernels, p, "splatKernels");
   bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
+  bindTexture(6, GL_TEXTURE_2D, kernels.minimalRadius, p, "minimalRadius");
   glBindVertexArray(empty_.id());
-  glDrawArrays(GL_POINTS, 0, offsets[levels]);
+  for (int k = 0; k < splatLevels; ++k) {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
+    glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
+    glUniform1i(uniform(p, "splatLevel"), k);
+    glDrawArrays(GL_POINTS, 0, offsets[levels]);
+  }
   glBindVertexArray(0);
   glDisable(GL_BLEND);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -81,6 +98,35 @@ uint64_t Splatting::splatLevel(const Scene& scene, const LightView& view, const 
     selected += counts[k];
   }
   return selected;
+}
+
+void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights) {
+  int levels = int(exitance_.size());
+  if (levels <= 1) return;
+  if (!accumulateProgram_) accumulateProgram_ = gl::makeProgram("fullscreen.vert", "", "accumulate.frag");
+  GLuint p = accumulateProgram_.id();
+  glUseProgram(p);
+  setCameraUniforms(p, scene.camera());
+  glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
+  glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
+  glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
+  bindTexture(1, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
+  bindTexture(2, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glBindVertexArray(empty_.id());
+  for (int k = levels - 2; k >= 0; --k) {  // coarse to fine: level k += upsampled level k + 1
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
+    glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
+    bindTexture(0, GL_TEXTURE_2D, exitance_[size_t(k + 1)].id(), p, "coarseExitance");
+    glUniform1i(uniform(p, "fineLevel"), k);
+    glUniform2i(uniform(p, "coarseSize"), std::max(width_ >> (k + 1), 1), std::max(height_ >> (k + 1), 1));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  gl::checkErrors("splat accumulation");
 }
 
 void Shading::resize(int width, int height) {

@@ -6,6 +6,8 @@
 #include "gl/gl.h"
 #include "pipeline/buffers.h"
 
+#include <vector>
+
 namespace subsplat {
 
 // Which irradiance samples are splatted: levels == 1 takes every finest texel
@@ -16,24 +18,41 @@ struct Selection {
   float alpha = 15.0f;
 };
 
+// The per-material tables the splat shaders read.
+struct KernelTables {
+  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material
+  GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
+  int layers = 1;
+};
+
+// Eq. 17's weights.
+struct Accumulation {
+  float lambdaZ = 8.0f, lambdaM = 8.0f;
+  float boundingDiameter = 1.0f;  // R_w
+};
+
 class Splatting {
  public:
-  void resize(int width, int height);
+  // levels > 1: multiresolution splatting into that many exitance levels.
+  void resize(int width, int height, int levels = 1);
   void clear();
   // Adds the selected lit translucent samples of `irradiance` to the exitance
-  // buffer; adds the samples selected per level to `selectedPerLevel` and
-  // returns the number of splats drawn.
-  uint64_t splatLevel(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                      const SplattingBuffer& splatting, GLuint kernelTable, const Selection& selection,
-                      uint64_t selectedPerLevel[8]);
-  GLuint exitance() const { return exitance_.id(); }
+  // buffers (each level its range of distances); adds the samples selected per
+  // irradiance level to `selectedPerLevel` and returns their number.
+  uint64_t splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                 const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+                 uint64_t selectedPerLevel[8]);
+  // Eq. 17: gathers the levels into level 0, coarse to fine.
+  void accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights);
+  GLuint exitance() const { return exitance_.front().id(); }
+  int levels() const { return int(exitance_.size()); }
 
  private:
   int width_ = 0, height_ = 0;
-  gl::Program program_;
+  gl::Program program_, accumulateProgram_;
   gl::VertexArray empty_;
-  gl::Texture exitance_;
-  gl::Framebuffer framebuffer_;
+  std::vector<gl::Texture> exitance_;
+  std::vector<gl::Framebuffer> framebuffers_;
   gl::Buffer counts_;  // SelectionCounts (splat.vert)
 };
 

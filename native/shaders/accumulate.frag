@@ -1,0 +1,43 @@
+// Splat accumulation (eq. 17): adds the accumulated exitance of level k + 1,
+// upsampled with bilinear, depth and material weights, to level k. Pixels of
+// another object get no weight (light does not scatter between objects).
+uniform sampler2D coarseExitance;           // level k + 1, already accumulated
+uniform sampler2D splattingPositionObject;  // the median-depth hierarchy
+uniform sampler2D splattingNormalMaterial;
+uniform int fineLevel;
+uniform ivec2 coarseSize;
+uniform vec3 cameraPosition;
+uniform vec3 cameraForward;
+uniform float lambdaZ, lambdaM;
+uniform float boundingDiameter;  // R_w
+layout(location = 0) out vec4 exitance;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 po = texelFetch(splattingPositionObject, p, fineLevel);
+  if (po.w < 0.0) discard;
+  int m = int(texelFetch(splattingNormalMaterial, p, fineLevel).w);
+  if (!isTranslucent(m)) discard;
+  float z = dot(po.xyz - cameraPosition, cameraForward);
+  vec2 q = (vec2(p) + 0.5) * 0.5 - 0.5;  // this pixel's centre in level k + 1 pixels
+  ivec2 base = ivec2(floor(q));
+  vec2 f = q - vec2(base);
+  vec3 sum = vec3(0.0);
+  float total = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    ivec2 o = ivec2(i & 1, i >> 1);
+    ivec2 c = clamp(base + o, ivec2(0), coarseSize - 1);
+    vec4 cpo = texelFetch(splattingPositionObject, c, fineLevel + 1);
+    if (cpo.w != po.w) continue;
+    int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
+    if (!isTranslucent(cm)) continue;
+    float wp = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+    float cz = dot(cpo.xyz - cameraPosition, cameraForward);
+    float wz = exp(-lambdaZ * abs(z - cz) / boundingDiameter);
+    float wm = exp(-lambdaM * abs(materials[m].ranges.y - materials[cm].ranges.y) / boundingDiameter);
+    float w = wp * wz * wm;
+    sum += w * texelFetch(coarseExitance, c, 0).rgb;
+    total += w;
+  }
+  if (total <= 0.0) discard;
+  exitance = vec4(sum / total, 0.0);
+}
