@@ -38,6 +38,24 @@ void main() {
     sum += w * texelFetch(coarseExitance, c, 0).rgb;
     total += w;
   }
-  if (total <= 0.0) discard;
+  if (total <= 0.0) {
+    // No coarse neighbour on this object (a silhouette or thin part narrower
+    // than a coarse pixel): take the 3 x 3 ring around it by depth and material
+    // alone rather than dropping the coarse levels' light.
+    for (int dy = -1; dy <= 2; ++dy)
+      for (int dx = -1; dx <= 2; ++dx) {
+        ivec2 c = clamp(base + ivec2(dx, dy), ivec2(0), coarseSize - 1);
+        vec4 cpo = texelFetch(splattingPositionObject, c, fineLevel + 1);
+        if (cpo.w != po.w) continue;
+        int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
+        if (!isTranslucent(cm)) continue;
+        float cz = dot(cpo.xyz - cameraPosition, cameraForward);
+        float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) *
+                  exp(-lambdaM * abs(materials[m].ranges.y - materials[cm].ranges.y) / boundingDiameter);
+        sum += w * texelFetch(coarseExitance, c, 0).rgb;
+        total += w;
+      }
+    if (total <= 0.0) discard;
+  }
   exitance = vec4(sum / total, 0.0);
 }

@@ -38,7 +38,7 @@ void main() {
   vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
   vec2 range = vec2(0.0, reach);
   if (splatLevels > 1) {
-    float rangeP = materials[m].ranges.z;
+    float rangeP = materials[m].ranges.y;  // the longest channel's R_P, as the R-bar table
     float layer = (materials[m].optics.w + 0.5) / kernelLayers;
     bool orthographic = viewToClip[3][3] > 0.5;
     float extent = orthographic ? 2.0 / viewToClip[1][1] : 2.0 * max(-c.z, 1e-6) / viewToClip[1][1];

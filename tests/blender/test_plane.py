@@ -18,7 +18,7 @@ class PlaneExitance(unittest.TestCase):
     STRENGTH = 3.0
     MM_PER_UNIT = 200.0  # splat radius ~0.2 units against a slab half-width of 2
 
-    TOLERANCE = {"BRUTE": 0.03, "ADAPTIVE": 0.03, "REFERENCE": 0.01}
+    TOLERANCE = {"BRUTE": 0.03, "MULTIRES": 0.03, "ADAPTIVE": 0.03, "FULL": 0.03, "REFERENCE": 0.01}
 
     def check(self, preset, incidence_degrees, method="BRUTE", alpha=15.0):
         import bpy
@@ -69,6 +69,12 @@ class PlaneExitance(unittest.TestCase):
                 selected = subsplat.last_render_stats()["selected_per_level"]
                 if preset != "KETCHUP":
                     self.assertGreater(sum(selected[1:]), selected[0], f"{preset} {incidence}: {selected}")
+
+    def test_multires_and_full(self):
+        for method in ("MULTIRES", "FULL"):
+            for preset in ("MARBLE", "SKIN1", "KETCHUP"):
+                for incidence in (0, 60):
+                    self.check(preset, incidence, method=method, alpha=0.1)
 
     def test_reference_within_one_percent(self):
         for preset in ("MARBLE", "SKIN1", "KETCHUP"):

@@ -44,8 +44,10 @@ std::vector<float> SplatKernel::minimalRadiusTable(double epsilon) const {
   // Mean normalised profile P(r) r on [0, 1] and its tail integrals.
   constexpr int kFine = 4096;
   std::vector<double> profile(kFine + 1, 0.0), tail(kFine + 2, 0.0);
+  // All channels over the longest range R_P (the multiresolution ranges are
+  // R_P max x R-bar): the steep part of every channel stays below R-bar.
+  double rangeMm = std::max({effectiveRange_[0], effectiveRange_[1], effectiveRange_[2]}) * mmPerUnit_;
   for (int c = 0; c < 3; ++c) {
-    double rangeMm = effectiveRange_[c] * mmPerUnit_;
     double energy = dipoles_[c].energyWithin(rangeMm) / (2.0 * M_PI);  // integral of P(s) s ds
     if (!(energy > 0.0) || !(rangeMm > 0.0)) continue;
     double scale = rangeMm * rangeMm / energy / 3.0;  // C of eq. 16, averaged over channels

@@ -62,7 +62,8 @@ class SplatKernel {
   // R_P, of a splatting buffer with T pixels per R_P: the smallest r from
   // which a Riemann sum at spacing 1 / T of the mean normalised profile
   // (eq. 15, 16; the mean of the three channels) over [r, 1] stays within
-  // epsilon of its integral (the profile's energy within R_P is 1). Tabulated
+  // epsilon of its integral (the profile's energy within R_P is 1). R_P is
+  // the longest of the three channels' ranges (docs/SPLATTING.md). Tabulated
   // at kRadiusTableSize values of log2 T evenly in [kMinLog2T, kMaxLog2T].
   static constexpr int kRadiusTableSize = 64;
   static constexpr double kMinLog2T = -2.0;
