@@ -19,7 +19,7 @@ METHOD_ITEMS = [
 
 
 class SubsplatSceneSettings(bpy.types.PropertyGroup):
-    method: EnumProperty(name="Method", items=METHOD_ITEMS, default="BRUTE",
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default="FULL",
                          description="How irradiance samples are selected and splatted")
     irradiance_resolution: IntProperty(
         name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,

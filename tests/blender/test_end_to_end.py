@@ -36,7 +36,7 @@ class ExampleScenesRender(unittest.TestCase):
                 stats = stats_from(result.stdout)
                 print(f"{name}: {stats['width']}x{stats['height']} {stats['frame_ms']:.0f} ms, "
                       f"{stats['translucent_pixels']} translucent pixels, {stats['lit_translucent_pixels']} lit")
-                self.assertEqual(stats["method"], "BRUTE")
+                self.assertEqual(stats["method"], "FULL")  # the default: the paper's method
                 self.assertEqual(stats["nonfinite_pixels"], 0)
                 self.assertGreater(stats["translucent_pixels"], 1000)
                 # Light reaches most of what is visible of a translucent object.
