@@ -143,8 +143,12 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         result.layers[0].passes[EXITANCE_PASS].rect = exitance.reshape(-1, 4)
         self.end_result(result)
         label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
-        samples = "surface samples" if settings.method == "REFERENCE" else "splats"
-        self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['splat_count']} {samples}")
+        if settings.method == "REFERENCE":
+            detail = f"{stats['splat_count']} surface samples"
+        else:
+            detail = (f"{stats['splat_count']} splats, {stats['levels']} irradiance / "
+                      f"{stats['splat_levels']} splatting levels")
+        self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
 
 
 def report_progress(engine, fraction):

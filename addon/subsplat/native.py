@@ -82,7 +82,8 @@ class Stats(ctypes.Structure):
                 ("timers_available", ctypes.c_int32), ("statistics_available", ctypes.c_int32),
                 ("translucent_pixels", ctypes.c_uint64), ("lit_translucent_pixels", ctypes.c_uint64),
                 ("nonfinite_pixels", ctypes.c_uint64), ("kernel_evaluations", ctypes.c_uint64),
-                ("levels", ctypes.c_int32), ("selected_per_level", ctypes.c_uint64 * 8)]
+                ("levels", ctypes.c_int32), ("selected_per_level", ctypes.c_uint64 * 8),
+                ("splat_levels", ctypes.c_int32)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -244,4 +245,5 @@ class Context:
             "translucent_pixels": int(s.translucent_pixels), "lit_translucent_pixels": int(s.lit_translucent_pixels),
             "nonfinite_pixels": int(s.nonfinite_pixels), "kernel_evaluations": int(s.kernel_evaluations),
             "levels": s.levels, "selected_per_level": [int(s.selected_per_level[k]) for k in range(max(s.levels, 0))],
+            "splat_levels": s.splat_levels,
         }

@@ -25,9 +25,10 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,
         description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
     levels: IntProperty(
-        name="Levels", default=3, min=1, max=8,
-        description="Levels of the irradiance (adaptive) and splatting (multiresolution) hierarchies "
-                    "(the paper uses 3)")
+        name="Levels", default=0, min=0, max=8,
+        description="Levels of the irradiance (adaptive) and splatting (multiresolution) hierarchies; "
+                    "0 chooses them each frame from the materials' scattering ranges, the lights and the "
+                    "image size (the render stats say what was chosen; the paper uses 3)")
     z0_factor: FloatProperty(
         name="Depth Threshold", default=0.03, min=1e-4, max=100.0, soft_max=1.0, precision=3,
         description="Adaptive: z0, the largest depth range under a coarse sample, as a factor of the "

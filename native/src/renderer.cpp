@@ -29,7 +29,7 @@ void Renderer::setSettings(const SsSettings& s) {
           "lambda_z must be 0 (the default) or in (0, 1e4], got " + std::to_string(s.lambda_z));
   require(std::isfinite(s.lambda_m) && s.lambda_m >= 0.0f && s.lambda_m <= 1e4f,
           "lambda_m must be 0 (the default) or in (0, 1e4], got " + std::to_string(s.lambda_m));
-  require(s.levels >= 0 && s.levels <= 8, "levels must be 0 (the default) or in [1, 8], got " +
+  require(s.levels >= 0 && s.levels <= 8, "levels must be 0 (automatic) or in [1, 8], got " +
                                               std::to_string(s.levels));
   require(std::isfinite(s.z0_factor) && s.z0_factor >= 0.0f && s.z0_factor <= 100.0f,
           "z0 factor must be 0 (the default) or in (0, 100], got " + std::to_string(s.z0_factor));
@@ -46,14 +46,11 @@ void Renderer::setSettings(const SsSettings& s) {
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
-  if (settings_.levels == 0) settings_.levels = kDefaultLevels;
   if (settings_.z0_factor == 0.0f) settings_.z0_factor = kDefaultZ0Factor;
   if (settings_.alpha == 0.0f) settings_.alpha = kDefaultAlpha;
   if (settings_.epsilon == 0.0f) settings_.epsilon = kDefaultEpsilon;
   if (settings_.lambda_z == 0.0f) settings_.lambda_z = kDefaultLambda;
   if (settings_.lambda_m == 0.0f) settings_.lambda_m = kDefaultLambda;
-  // The coarsest level keeps at least one texel.
-  while ((settings_.irradiance_resolution >> (settings_.levels - 1)) < 1) --settings_.levels;
 }
 
 void Renderer::uploadMaterials() {
@@ -162,10 +159,9 @@ void Renderer::render(int width, int height, float* rgba) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, materialBuffer_.id());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
-  int levels = adaptive ? settings_.levels : 1;
-  int splatLevels = 1;
-  if (multires)  // while the coarsest level keeps at least one pixel
-    while (splatLevels < settings_.levels && std::max(width, height) >> splatLevels >= 1) ++splatLevels;
+  Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
+  Levels chosen = chooseLevels(width, height, translucent, adaptive, multires);
+  int levels = chosen.irradiance, splatLevels = chosen.splat;
   irradiance_.resize(settings_.irradiance_resolution, levels);
   splatting_.resize(width, height, splatLevels);
   splats_.resize(width, height, splatLevels);
@@ -182,10 +178,10 @@ void Renderer::render(int width, int height, float* rgba) {
   shading_.clear();
   gl::checkErrors("splatting buffer");
 
-  Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
   Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
   KernelTables kernels{kernelTable_.id(), minimalRadius_.id(), kernelLayers_};
-  stats_.levels = std::max(levels, splatLevels);
+  stats_.levels = levels;
+  stats_.splat_levels = splatLevels;
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
@@ -229,6 +225,54 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
+}
+
+Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& translucent, bool adaptive,
+                                        bool multires) const {
+  Levels levels;
+  int maxIrradiance = 1, maxSplat = 1;  // while the coarsest level keeps a texel / pixel
+  while (maxIrradiance < 8 && (settings_.irradiance_resolution >> maxIrradiance) >= 1) ++maxIrradiance;
+  while (maxSplat < 8 && (std::max(width, height) >> maxSplat) >= 1) ++maxSplat;
+  if (settings_.levels > 0) {
+    levels.irradiance = adaptive ? std::min(settings_.levels, maxIrradiance) : 1;
+    levels.splat = multires ? std::min(settings_.levels, maxSplat) : 1;
+    return levels;
+  }
+  if (translucent.empty()) return levels;
+  double rangeMin = 1e300, rangeMax = 0.0;  // R_P over the translucent materials' channels
+  for (const Material& m : scene_.denseMaterials()) {
+    if (!m.kernel) continue;
+    for (double r : m.kernel->effectiveRange()) rangeMin = std::min(rangeMin, r), rangeMax = std::max(rangeMax, r);
+  }
+  if (!(rangeMax > 0.0)) return levels;
+  auto clampLevels = [](double log2Ratio, int most) {
+    return std::clamp(1 + int(std::floor(std::max(log2Ratio, 0.0))), 1, most);
+  };
+  if (adaptive) {
+    // The finest texel any light view puts on the translucent objects, and the coarsest
+    // level at which such a texel, facing the light, could still be fine enough (eq. 11).
+    double texel = 1e300;
+    for (const SsLightDesc& light : scene_.lights())
+      for (const LightView& view : lightViews(light, translucent, scene_.bounds(false), settings_.irradiance_resolution)) {
+        double size = light.type == SS_LIGHT_SUN
+                          ? view.shadowTexelSize
+                          : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
+        texel = std::min(texel, std::max(size, 1e-12));
+      }
+    if (texel < 1e300) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
+  }
+  if (multires) {
+    // The coarsest splatting level keeps a pixel per R_P (the longest channel's) at the
+    // translucent objects' depth: coarser than that it could only blur what it splats.
+    const SsCameraDesc& camera = scene_.camera();
+    glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
+    glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
+    double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
+    double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
+    double pixel = extent / double(height);
+    levels.splat = clampLevels(std::log2(rangeMax / pixel), maxSplat);
+  }
+  return levels;
 }
 
 void Renderer::renderReference(int width, int height, float* rgba) {

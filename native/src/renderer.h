@@ -12,7 +12,7 @@ namespace subsplat {
 class Renderer {
  public:
   static constexpr uint32_t kDefaultReferenceSamples = 200000;
-  static constexpr int kDefaultLevels = 3;
+  static constexpr int kDefaultLevels = 0;  // automatic
   static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f, kDefaultEpsilon = 0.001f;
   static constexpr float kDefaultLambda = 8.0f;
   Renderer();
@@ -29,6 +29,10 @@ class Renderer {
   // Coverage figures of the frame for SsStats (tests and the UI read them).
   void countCoverage(int width, int height, const float* rgba);
   void renderReference(int width, int height, float* rgba);
+  struct Levels {
+    int irradiance = 1, splat = 1;
+  };
+  Levels chooseLevels(int width, int height, const Bounds& translucent, bool adaptive, bool multires) const;
 
   Scene scene_;
   SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,

@@ -198,8 +198,8 @@ namespace {
 
 class Multires : public Render {
  protected:
-  SsStats renderWith(int method, int size, float epsilon = 0.0f) {
-    SsSettings settings{method, 256, {0, 0, 0, 0}, 0, 3, 0.0f, 0.0f, epsilon, 0.0f, 0.0f};
+  SsStats renderWith(int method, int size, float epsilon = 0.0f, int levels = 3) {
+    SsSettings settings{method, 256, {0, 0, 0, 0}, 0, levels, 0.0f, 0.0f, epsilon, 0.0f, 0.0f};
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     last = render(size);
     SsStats stats{};
@@ -223,7 +223,8 @@ TEST_F(Multires, PlaneExitanceWithinThreePercent) {
       SsLightDesc sun = testing::sunLight(3.0f, incidence);
       ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
       SsStats stats = renderWith(method, 128);
-      EXPECT_EQ(stats.levels, 3);
+      EXPECT_EQ(stats.splat_levels, 3);
+      EXPECT_EQ(stats.levels, method == SS_METHOD_FULL ? 3 : 1);
       double cosTheta = std::cos(incidence * M_PI / 180.0);
       for (int c = 0; c < 3; ++c) {
         double rdTotal = Dipole({marble.sigma_a[c], marble.sigma_s_prime[c], marble.eta}).totalReflectance();
@@ -235,6 +236,35 @@ TEST_F(Multires, PlaneExitanceWithinThreePercent) {
       }
     }
   }
+}
+
+// levels = 0 chooses the hierarchies per frame: a longer scattering range
+// (fewer millimetres per unit) gets more splatting levels, and a range too
+// short for the irradiance buffer gets no irradiance hierarchy at all.
+TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  int previous = 0;
+  for (float mmPerUnit : {2000.0f, 200.0f, 20.0f}) {
+    SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
+    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+    SsStats stats = renderWith(SS_METHOD_FULL, 128, 0.0f, 0);
+    std::printf("%.0f mm per unit: %d irradiance, %d splatting levels\n", mmPerUnit, stats.levels, stats.splat_levels);
+    EXPECT_GE(stats.splat_levels, previous) << mmPerUnit;
+    EXPECT_GE(stats.levels, 1);
+    EXPECT_LE(stats.splat_levels, 8);
+    previous = stats.splat_levels;
+  }
+  EXPECT_GT(previous, 1);
+  SsMaterialDesc marble = testing::marbleMaterial(2000.0f);  // R_P far below a texel and a pixel
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  SsStats stats = renderWith(SS_METHOD_FULL, 128, 0.0f, 0);
+  EXPECT_EQ(stats.levels, 1);
+  EXPECT_EQ(stats.splat_levels, 1);
 }
 
 }  // namespace

@@ -113,7 +113,8 @@ typedef struct SsSettings {
    * by area (at least one per triangle), in [1e3, 1e8]; 0 for the default, 2e5. */
   uint32_t reference_samples;
   /* MULTIRES, ADAPTIVE, FULL: levels of the irradiance and splatting hierarchies in
-   * [1, 8] (0: 3, the paper's); the depth-range threshold z0 as a factor of the
+   * [1, 8], or 0: chosen per frame from the materials' ranges, the light views and the
+   * image (docs/MULTIRES.md; the stats report the choice); the depth-range threshold z0 as a factor of the
    * translucent bounding-sphere radius (0: 0.03); eq. 11's alpha (0: 15); eq. 14's
    * epsilon (0: 0.001); eq. 17's lambda_z and lambda_m (0: 8). */
   int32_t levels;
@@ -149,10 +150,11 @@ typedef struct SsStats {
    * times: BUFFERS = surface samples and their irradiance, SPLATTING = camera
    * rays, exitance sums and shading. */
   uint64_t kernel_evaluations;
-  /* Hierarchy levels used and irradiance samples selected at each irradiance level,
-   * summed over light views (level-0 texels covered: sum of count * 4^level). */
+  /* Irradiance hierarchy levels used and the samples selected at each level, summed
+   * over light views (level-0 texels covered: sum of count * 4^level). */
   int32_t levels;
   uint64_t selected_per_level[8];
+  int32_t splat_levels;  /* splatting levels used (1: single resolution) */
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */
