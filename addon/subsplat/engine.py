@@ -13,6 +13,12 @@ _last_error = None
 _last_passes = {}
 
 EXITANCE_PASS = "SubSplat Exitance"
+SAMPLES_PASS = "SubSplat Samples"
+MAX_DEBUG_LEVELS = 8
+
+
+def level_pass(k):
+    return f"SubSplat Level {k}"
 
 
 def last_render_stats():
@@ -47,6 +53,10 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         # Lists the passes for the compositor's Render Layers node.
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
         self.register_pass(scene, renderlayer, EXITANCE_PASS, 4, "RGBA", "COLOR")
+        if scene is not None and scene.subsplat.debug_passes and scene.subsplat.method != "REFERENCE":
+            self.register_pass(scene, renderlayer, SAMPLES_PASS, 4, "RGBA", "COLOR")
+            for k in range(MAX_DEBUG_LEVELS):
+                self.register_pass(scene, renderlayer, level_pass(k), 4, "RGBA", "COLOR")
 
     def render(self, depsgraph):
         global _last_error
@@ -115,6 +125,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         native_settings.epsilon = settings.epsilon
         native_settings.lambda_z = settings.lambda_z
         native_settings.lambda_m = settings.lambda_m
+        debug = settings.debug_passes and settings.method != "REFERENCE"
+        native_settings.debug_passes = int(debug)
         context.set_settings(native_settings)
 
         progress = None
@@ -134,13 +146,20 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
                      reference_samples=settings.reference_samples)
         _last_stats.clear()
         _last_stats.update(stats)
+        passes = {EXITANCE_PASS: exitance}
+        if debug:
+            passes[SAMPLES_PASS] = context.render_pass(native.PASS_SELECTION, width, height)
+            for k in range(min(stats["splat_levels"], MAX_DEBUG_LEVELS)):
+                passes[level_pass(k)] = context.render_pass(native.PASS_LEVEL_EXITANCE + k, width, height)
         if keep_passes:
-            _last_passes.update({"Combined": pixels, EXITANCE_PASS: exitance})
+            _last_passes.update({"Combined": pixels, **passes})
 
-        self.add_pass(EXITANCE_PASS, 4, "RGBA")
+        for name in passes:
+            self.add_pass(name, 4, "RGBA")
         result = self.begin_result(0, 0, width, height)
         result.layers[0].passes["Combined"].rect = pixels.reshape(-1, 4)
-        result.layers[0].passes[EXITANCE_PASS].rect = exitance.reshape(-1, 4)
+        for name, values in passes.items():
+            result.layers[0].passes[name].rect = values.reshape(-1, 4)
         self.end_result(result)
         label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
         if settings.method == "REFERENCE":

@@ -8,10 +8,10 @@ import os
 
 import numpy as np
 
-API_VERSION = 3
+API_VERSION = 4
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
-PASS_EXITANCE = 0
+PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
 CANCELLED = 7
 LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
 MATERIAL_OPAQUE, MATERIAL_DIPOLE = 0, 1
@@ -72,7 +72,7 @@ class Settings(ctypes.Structure):
     _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
                 ("background", Float4), ("reference_samples", ctypes.c_uint32), ("levels", ctypes.c_int32),
                 ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
-                ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float)]
+                ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32)]
 
 
 class Stats(ctypes.Structure):
@@ -228,8 +228,12 @@ class Context:
 
     def exitance_pass(self, width, height):
         """B(x_o) of the last render in rgb, 1 in alpha on translucent pixels; (height, width, 4)."""
+        return self.render_pass(PASS_EXITANCE, width, height)
+
+    def render_pass(self, kind, width, height):
+        """A pass of the last render (PASS_*; PASS_LEVEL_EXITANCE + k), (height, width, 4)."""
         pixels = np.empty((height, width, 4), dtype=np.float32)
-        _check(library().ssGetPass(self._handle, PASS_EXITANCE, width, height, _floats(pixels)))
+        _check(library().ssGetPass(self._handle, kind, width, height, _floats(pixels)))
         return pixels
 
     def stats(self):

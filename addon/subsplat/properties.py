@@ -47,6 +47,11 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     lambda_m: FloatProperty(
         name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
         description="Multiresolution: lambda_m of eq. 17; how strongly upsampling avoids material boundaries")
+    debug_passes: BoolProperty(
+        name="Debug Passes", default=False,
+        description="Add the passes 'SubSplat Samples' (selected irradiance samples, a colour per level: "
+                    "red, green, blue, yellow, ...) and 'SubSplat Level k' (each splatting level's own "
+                    "exitance) to final renders")
     reference_samples: IntProperty(
         name="Reference Samples", default=200000, min=1000, max=100000000, soft_min=10000, soft_max=4000000,
         description="Reference: surface samples spread by area over all translucent surfaces together "

@@ -36,6 +36,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "epsilon")
             layout.prop(settings, "lambda_z")
             layout.prop(settings, "lambda_m")
+        layout.prop(settings, "debug_passes")
 
 
 class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):

@@ -8,6 +8,7 @@ in SplatSample {
   float footprint;
   float object;
   int material;
+  int level;  // irradiance level the sample was selected at
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

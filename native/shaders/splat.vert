@@ -24,6 +24,7 @@ out SplatSample {
   float footprint;
   float object;
   int material;
+  int level;  // irradiance level the sample was selected at
 } sampleOut;
 
 bool valid(int level, ivec2 texel) {
@@ -45,6 +46,7 @@ void main() {
   int index = gl_VertexID - levelOffset[level];
   ivec2 texel = ivec2(index % size, index / size);
   sampleOut.material = -1;
+  sampleOut.level = level;
   gl_Position = vec4(0.0);
   if (levels > 1) {
     for (int k = level + 1; k < levels; ++k)

@@ -164,6 +164,7 @@ void Renderer::render(int width, int height, float* rgba) {
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   irradiance_.resize(settings_.irradiance_resolution, levels);
   splatting_.resize(width, height, splatLevels);
+  splats_.setDebug(settings_.debug_passes != 0);
   splats_.resize(width, height, splatLevels);
   shading_.resize(width, height);
   gl::checkErrors("buffer allocation");
@@ -202,7 +203,7 @@ void Renderer::render(int width, int height, float* rgba) {
       gl::checkErrors("light view");
     }
   }
-  if (splatLevels > 1 && !translucent.empty()) {
+  if (!translucent.empty()) {  // (one level: only keeps the debug copy)
     profiler.begin(SS_STAGE_SPLATTING);
     splats_.accumulate(scene_, splatting_,
                        {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()});
@@ -291,17 +292,45 @@ void Renderer::renderReference(int width, int height, float* rgba) {
 
 void Renderer::readPass(int pass, int width, int height, float* rgba) {
   require(rgba != nullptr, "output buffer is NULL");
-  require(pass == SS_PASS_EXITANCE, "unknown pass " + std::to_string(pass));
+  require(pass >= SS_PASS_EXITANCE && pass < SS_PASS_LEVEL_EXITANCE + 8, "unknown pass " + std::to_string(pass));
   if (lastMethod_ < 0) fail(SS_INVALID_ARGUMENT, "there is no successful render to read a pass from");
   require(width == lastWidth_ && height == lastHeight_,
           "pass size " + std::to_string(width) + " x " + std::to_string(height) + " differs from the last render's " +
               std::to_string(lastWidth_) + " x " + std::to_string(lastHeight_));
   size_t pixels = size_t(width) * height;
   if (lastMethod_ == SS_METHOD_REFERENCE) {
+    require(pass == SS_PASS_EXITANCE, "REFERENCE has only the exitance pass");
     std::copy(reference_.exitance().begin(), reference_.exitance().begin() + 4 * pixels, rgba);
     return;
   }
   gl::StateGuard guard;
+  if (pass != SS_PASS_EXITANCE) {
+    require(settings_.debug_passes != 0, "debug passes were not enabled for the last render (debug_passes)");
+    int level = pass - SS_PASS_LEVEL_EXITANCE;
+    require(pass == SS_PASS_SELECTION || level < splats_.levels(),
+            "the last render had " + std::to_string(splats_.levels()) + " splatting levels, not " +
+                std::to_string(level + 1));
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    if (pass == SS_PASS_SELECTION) {
+      glBindTexture(GL_TEXTURE_2D, splats_.selection());
+      glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, rgba);
+      gl::checkErrors("pass read-back");
+      return;
+    }
+    int lw = std::max(width >> level, 1), lh = std::max(height >> level, 1);
+    std::vector<float> small(size_t(lw) * lh * 4);
+    glBindTexture(GL_TEXTURE_2D, splats_.levelExitance(level));
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, small.data());
+    gl::checkErrors("pass read-back");
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const float* in = &small[(size_t(std::min(y >> level, lh - 1)) * lw + std::min(x >> level, lw - 1)) * 4];
+        float* out = rgba + (size_t(y) * width + x) * 4;
+        out[0] = in[0], out[1] = in[1], out[2] = in[2], out[3] = 1.0f;
+      }
+    return;
+  }
   std::vector<float> normalMaterial(pixels * 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);

@@ -36,7 +36,7 @@ class Renderer {
 
   Scene scene_;
   SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,
-                       kDefaultZ0Factor, kDefaultAlpha, kDefaultEpsilon, kDefaultLambda, kDefaultLambda};
+                       kDefaultZ0Factor, kDefaultAlpha, kDefaultEpsilon, kDefaultLambda, kDefaultLambda, 0};
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;

@@ -267,5 +267,43 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
   EXPECT_EQ(stats.splat_levels, 1);
 }
 
+// The debug passes: the selection pass colours the irradiance level of the
+// samples that land on visible surfaces, and the splatting levels' own
+// exitances add up to more than the finest one alone (each takes its share of
+// the distances).
+TEST_F(Multires, DebugPassesShowLevelsAndSelection) {
+  SsMaterialDesc marble = testing::marbleMaterial(200.0f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  const int size = 64;
+  std::vector<float> pass(size_t(size) * size * 4);
+  SsSettings plain{SS_METHOD_FULL, 256, {0, 0, 0, 0}, 0, 3, 0.0f, 0.1f, 0.0f, 0.0f, 0.0f, 0};
+  ASSERT_EQ(ssSetSettings(context, &plain), SS_OK);
+  render(size);
+  EXPECT_NE(ssGetPass(context, SS_PASS_SELECTION, size, size, pass.data()), SS_OK) << "not enabled";
+  SsSettings debug = plain;
+  debug.debug_passes = 1;
+  ASSERT_EQ(ssSetSettings(context, &debug), SS_OK);
+  render(size);
+  ASSERT_EQ(ssGetPass(context, SS_PASS_SELECTION, size, size, pass.data()), SS_OK) << ssGetLastError();
+  int coloured[3] = {0, 0, 0};  // red, green, blue: levels 0, 1, 2
+  for (size_t i = 0; i < pass.size(); i += 4)
+    for (int c = 0; c < 3; ++c) coloured[c] += pass[i + c] == 1.0f && pass[i + 3] == 1.0f;
+  EXPECT_GT(coloured[2], 0) << "alpha 0.1 makes level 2 fine enough on the flat slab";
+  double levelSum[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(ssGetPass(context, SS_PASS_LEVEL_EXITANCE + k, size, size, pass.data()), SS_OK) << ssGetLastError();
+    for (size_t i = 0; i < pass.size(); i += 4) levelSum[k] += pass[i];
+  }
+  EXPECT_GT(levelSum[0], 0.0);
+  EXPECT_GT(levelSum[1] + levelSum[2], 0.0) << "the coarse levels take the far distances";
+  EXPECT_NE(ssGetPass(context, SS_PASS_LEVEL_EXITANCE + 3, size, size, pass.data()), SS_OK) << "only 3 levels";
+}
+
 }  // namespace
 }  // namespace subsplat

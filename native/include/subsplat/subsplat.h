@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 3
+#define SS_API_VERSION 4
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -123,6 +123,8 @@ typedef struct SsSettings {
   float epsilon;
   float lambda_z;
   float lambda_m;
+  /* Non-zero: keep the debug passes (SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE). */
+  int32_t debug_passes;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -159,7 +161,13 @@ typedef struct SsStats {
 
 /* Images of the last render besides the result, same size, bottom row first. */
 typedef enum SsPass {
-  SS_PASS_EXITANCE = 0  /* rgb: B(x_o) of eq. 5 (W / unit^2); a: 1 on translucent pixels */
+  SS_PASS_EXITANCE = 0,  /* rgb: B(x_o) of eq. 5 (W / unit^2); a: 1 on translucent pixels */
+  /* With debug_passes, GPU methods: */
+  SS_PASS_SELECTION = 1, /* selected irradiance samples where they land on visible surfaces, one
+                            colour per irradiance level (0 red, 1 green, 2 blue, 3 yellow, 4
+                            magenta, 5 cyan, 6 white, 7 orange); a: 1 where a sample landed */
+  SS_PASS_LEVEL_EXITANCE = 2 /* + k: splatting level k's own exitance before accumulation,
+                                nearest-upsampled to the frame; a: 1 */
 } SsPass;
 
 /* Called from the thread that called ssRender while a long render (REFERENCE)

@@ -13,15 +13,32 @@ void Splatting::resize(int width, int height, int levels) {
     program_ = gl::makeProgram("splat.vert", "splat.geom", "splat.frag");
     empty_ = gl::makeVertexArray();
   }
-  if (width == width_ && height == height_ && levels == int(exitance_.size())) return;
+  bool debugReady = !debug_ || (selection_ && levelCopies_.size() == size_t(levels));
+  if (width == width_ && height == height_ && levels == int(exitance_.size()) && debugReady) return;
   exitance_.clear();
   framebuffers_.clear();
+  levelCopies_.clear();
   for (int k = 0; k < levels; ++k) {
     exitance_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
     framebuffers_.push_back(gl::makeFramebuffer({exitance_.back().id()}, 0));
+    if (debug_)
+      levelCopies_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
+  }
+  selection_ = gl::Texture();
+  selectionFramebuffer_ = gl::Framebuffer();
+  if (debug_) {
+    if (!selectionProgram_)
+      selectionProgram_ = gl::makeProgram("splat.vert", "selection_debug.geom", "selection_debug.frag");
+    selection_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+    selectionFramebuffer_ = gl::makeFramebuffer({selection_.id()}, 0);
   }
   width_ = width;
   height_ = height;
+}
+
+void Splatting::setDebug(bool enabled) {
+  if (enabled != debug_) width_ = height_ = 0;  // reallocate at the next resize
+  debug_ = enabled;
 }
 
 void Splatting::clear() {
@@ -30,21 +47,20 @@ void Splatting::clear() {
     glBindFramebuffer(GL_FRAMEBUFFER, f.id());
     glClearBufferfv(GL_COLOR, 0, zero);
   }
+  if (selectionFramebuffer_) {
+    glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
+    glClearBufferfv(GL_COLOR, 0, zero);
+  }
 }
 
-uint64_t Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                          const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
-                          uint64_t selectedPerLevel[8]) {
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
-  GLuint p = program_.id();
-  glUseProgram(p);
+void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view,
+                                     const IrradianceBuffer& irradiance, const SplattingBuffer& splatting,
+                                     const Selection& selection, GLint offsets[9]) {
   int res = irradiance.resolution();
   glUniform1i(uniform(p, "resolution"), res);
   setLightUniforms(p, view);
   int levels = selection.levels;
-  GLint offsets[9] = {};
+  for (int k = 0; k < 9; ++k) offsets[k] = 0;
   for (int k = 0; k < levels; ++k) {
     int size = std::max(res >> k, 1);
     offsets[k + 1] = offsets[k] + size * size;
@@ -55,13 +71,31 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
   glUniform1f(uniform(p, "z0"), selection.z0);
   glUniform1f(uniform(p, "alpha"), selection.alpha);
   glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
+  glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
+  glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
+  bindTexture(0, GL_TEXTURE_2D, irradiance.positionMaterial(), p, "irradiancePositionMaterial");
+  bindTexture(1, GL_TEXTURE_2D, irradiance.fluxFootprint(), p, "irradianceFluxFootprint");
+  bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
+  bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
+  bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
+}
+
+uint64_t Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                          const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+                          uint64_t selectedPerLevel[8]) {
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  GLuint p = program_.id();
+  glUseProgram(p);
+  GLint offsets[9];
+  setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
+  int levels = selection.levels;
   if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
   const GLuint zeros[8] = {};
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
   glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, counts_.id());
-  glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
-  glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -72,12 +106,7 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
   for (int k = 0; k < splatLevels; ++k) heights[k] = float(std::max(height_ >> k, 1));
   glUniform1i(uniform(p, "splatLevels"), splatLevels);
   glUniform1fv(uniform(p, "levelHeight"), 8, heights);
-  bindTexture(0, GL_TEXTURE_2D, irradiance.positionMaterial(), p, "irradiancePositionMaterial");
-  bindTexture(1, GL_TEXTURE_2D, irradiance.fluxFootprint(), p, "irradianceFluxFootprint");
-  bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
-  bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
   bindTexture(4, GL_TEXTURE_2D_ARRAY, kernels.kernels, p, "splatKernels");
-  bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
   bindTexture(6, GL_TEXTURE_2D, kernels.minimalRadius, p, "minimalRadius");
   glBindVertexArray(empty_.id());
   for (int k = 0; k < splatLevels; ++k) {
@@ -86,8 +115,18 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
     glUniform1i(uniform(p, "splatLevel"), k);
     glDrawArrays(GL_POINTS, 0, offsets[levels]);
   }
-  glBindVertexArray(0);
   glDisable(GL_BLEND);
+  if (debug_) {  // the selection pass: splat.vert's selection, drawn as points
+    GLuint d = selectionProgram_.id();
+    glUseProgram(d);
+    GLint unused[9];
+    setSelectionUniforms(d, scene, view, irradiance, splatting, selection, unused);
+    glUniform1i(uniform(d, "splatLevel"), -1);  // not counted again
+    glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
+    glViewport(0, 0, width_, height_);
+    glDrawArrays(GL_POINTS, 0, offsets[levels]);
+  }
+  glBindVertexArray(0);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
   GLuint counts[8] = {};
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
@@ -102,6 +141,9 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
 
 void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights) {
   int levels = int(exitance_.size());
+  for (size_t k = 0; k < levelCopies_.size(); ++k)  // each level as splatted, for the debug pass
+    glCopyImageSubData(exitance_[k].id(), GL_TEXTURE_2D, 0, 0, 0, 0, levelCopies_[k].id(), GL_TEXTURE_2D, 0, 0, 0,
+                       0, std::max(width_ >> int(k), 1), std::max(height_ >> int(k), 1), 1);
   if (levels <= 1) return;
   if (!accumulateProgram_) accumulateProgram_ = gl::makeProgram("fullscreen.vert", "", "accumulate.frag");
   GLuint p = accumulateProgram_.id();

@@ -47,7 +47,21 @@ class Splatting {
   GLuint exitance() const { return exitance_.front().id(); }
   int levels() const { return int(exitance_.size()); }
 
+  // Debug passes (SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE), kept only while enabled.
+  void setDebug(bool enabled);
+  GLuint selection() const { return selection_.id(); }
+  // Level k's exitance as splatted, before accumulation.
+  GLuint levelExitance(int k) const { return levelCopies_.at(size_t(k)).id(); }
+
  private:
+  void setSelectionUniforms(GLuint program, const Scene& scene, const LightView& view,
+                            const IrradianceBuffer& irradiance, const SplattingBuffer& splatting,
+                            const Selection& selection, GLint offsets[9]);
+  bool debug_ = false;
+  gl::Program selectionProgram_;
+  gl::Texture selection_;
+  gl::Framebuffer selectionFramebuffer_;
+  std::vector<gl::Texture> levelCopies_;
   int width_ = 0, height_ = 0;
   gl::Program program_, accumulateProgram_;
   gl::VertexArray empty_;
