@@ -12,7 +12,6 @@ Cycles' random walk on slabs of Marble and Skin1.
 import argparse
 import datetime
 import os
-import platform
 import sys
 import time
 
@@ -33,16 +32,6 @@ def arguments():
     parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where ACCURACY.md and images go")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     return parser.parse_args(argv)
-
-
-def machine():
-    cpu = platform.processor() or "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} cores, Blender {bpy.app.version_string}"
 
 
 def main():
@@ -99,7 +88,8 @@ def write_report(args, rows, strips, convergence, cycles):
         "",
         f"    {command}",
         "",
-        f"Taken {datetime.date.today().isoformat()} on {machine()} (OpenGL: Mesa llvmpipe on these machines).",
+        f"Taken {datetime.date.today().isoformat()} on {helpers.machine()}, Blender {bpy.app.version_string} "
+        "(OpenGL: Mesa llvmpipe on these machines).",
         "",
         "REFERENCE (docs/REFERENCE.md) evaluates eq. 4/5 in object space on the CPU, with the same",
         "profiles, light models, Fresnel and specular terms as the real-time methods: what is left",

@@ -8,7 +8,6 @@ the levels chosen. 800x600, 512^2 irradiance buffer, default settings. Writes do
 import datetime
 import glob
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -17,20 +16,13 @@ import bpy
 
 import subsplat
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests", "blender"))
+import helpers  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COMMAND = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
            "--python bench/methods.py")
 METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
-
-
-def machine():
-    cpu = platform.processor() or "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} cores"
 
 
 def gl_renderer():
@@ -100,7 +92,7 @@ def main():
         "",
         "## Methods (the paper's Tables 1 and 2)",
         "",
-        f"Taken {datetime.date.today()} at revision `{revision}` on {machine()}, "
+        f"Taken {datetime.date.today()} at revision `{revision}` on {helpers.machine()}, "
         f"OpenGL renderer `{gl_renderer()}`, Blender {bpy.app.version_string}, by",
         "",
         f"    {COMMAND}",

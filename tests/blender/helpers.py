@@ -13,6 +13,18 @@ SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(o
 os.makedirs(OUTPUT, exist_ok=True)
 
 
+def machine():
+    """CPU model and core count, for the figures benchmarks write."""
+    import platform
+    cpu = platform.processor() or "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{cpu}, {os.cpu_count()} cores"
+
+
 def enable_addon():
     import addon_utils
     addon_utils.enable("subsplat", default_set=True)

@@ -102,6 +102,21 @@ static GLuint compileShader(GLenum type, const std::string& name) {
   return shader;
 }
 
+// Attaches and links the compiled shaders (and deletes them); throws with the info log.
+static void link(const Program& program, const std::vector<GLuint>& shaders, const std::string& name) {
+  for (GLuint s : shaders) glAttachShader(program.id(), s);
+  glLinkProgram(program.id());
+  for (GLuint s : shaders) glDeleteShader(s);
+  GLint ok = 0;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  if (ok) return;
+  GLint length = 0;
+  glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 1)), '\0');
+  glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+  fail(SS_GL_ERROR, "program " + name + " failed to link: " + log);
+}
+
 Program makeProgram(const std::string& vertex, const std::string& geometry,
                     const std::string& fragment) {
   Program program(glCreateProgram());
@@ -114,36 +129,13 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
     for (GLuint s : shaders) glDeleteShader(s);
     throw;
   }
-  for (GLuint s : shaders) glAttachShader(program.id(), s);
-  glLinkProgram(program.id());
-  for (GLuint s : shaders) glDeleteShader(s);
-  GLint ok = 0;
-  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-    fail(SS_GL_ERROR, "program " + vertex + "+" + fragment + " failed to link: " + log);
-  }
+  link(program, shaders, vertex + "+" + fragment);
   return program;
 }
 
 Program makeComputeProgram(const std::string& compute) {
   Program program(glCreateProgram());
-  GLuint shader = compileShader(GL_COMPUTE_SHADER, compute);
-  glAttachShader(program.id(), shader);
-  glLinkProgram(program.id());
-  glDeleteShader(shader);
-  GLint ok = 0;
-  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(size_t(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-    fail(SS_GL_ERROR, "program " + compute + " failed to link: " + log);
-  }
+  link(program, {compileShader(GL_COMPUTE_SHADER, compute)}, compute);
   return program;
 }
 
