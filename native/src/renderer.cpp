@@ -253,8 +253,9 @@ Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& tra
     // The finest texel any light view puts on the translucent objects, and the coarsest
     // level at which such a texel, facing the light, could still be fine enough (eq. 11).
     double texel = 1e300;
+    Bounds all = scene_.bounds(false);
     for (const SsLightDesc& light : scene_.lights())
-      for (const LightView& view : lightViews(light, translucent, scene_.bounds(false), settings_.irradiance_resolution)) {
+      for (const LightView& view : lightViews(light, translucent, all, settings_.irradiance_resolution)) {
         double size = light.type == SS_LIGHT_SUN
                           ? view.shadowTexelSize
                           : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());

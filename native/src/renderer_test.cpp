@@ -48,11 +48,7 @@ class Render : public ::testing::Test {
 TEST_F(Render, PlaneExitanceMatchesDipoleTotalReflectance) {
   const float mmPerUnit = 200.0f;  // support radius ~0.2 units, slab half-width 2
   SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   SsSettings settings{SS_METHOD_BRUTE, 256, {0, 0, 0, 0}};
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   for (float incidence : {0.0f, 60.0f}) {
@@ -125,11 +121,7 @@ class Adaptive : public Render {
 // level 2 out (its texels span more than z0 along the light).
 TEST_F(Adaptive, PlaneExitanceWithinThreePercentWithCoarseSamples) {
   SsMaterialDesc marble = testing::marbleMaterial(200.0f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   for (float incidence : {0.0f, 60.0f}) {
     SsLightDesc sun = testing::sunLight(3.0f, incidence);
     ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
@@ -164,18 +156,8 @@ uint64_t coveredTexels(const SsStats& s) {
 // light (six cube faces) has curvature, silhouettes and a terminator.
 TEST_F(Adaptive, SelectionCoversEveryTexelExactlyOnce) {
   SsMaterialDesc marble = testing::marbleMaterial(25.0f);  // blue R_P 0.22: 0.7 x the radius
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
   testing::Sphere sphere;
-  SsMeshDesc desc = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &desc), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.35f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsLightDesc lights[2] = {testing::sunLight(3.0f, 70.0f), {}};
-  lights[1].type = SS_LIGHT_POINT;
-  lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
-  lights[1].strength = 20.0f;
-  lights[1].position[0] = -0.3f, lights[1].position[2] = -0.6f;
-  ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK);
+  ASSERT_EQ(testing::setLitSphere(context, sphere, marble), SS_OK);
   SsStats brute = renderWith(SS_METHOD_BRUTE, 32);
   for (int levels : {2, 3, 5}) {
     SsStats adaptive = renderWith(SS_METHOD_ADAPTIVE, 32, levels);
@@ -213,11 +195,7 @@ class Multires : public Render {
 // each distance lands in exactly one level, and eq. 17 gathers the levels.
 TEST_F(Multires, PlaneExitanceWithinThreePercent) {
   SsMaterialDesc marble = testing::marbleMaterial(200.0f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   for (int method : {SS_METHOD_MULTIRES, SS_METHOD_FULL}) {
     for (float incidence : {0.0f, 60.0f}) {
       SsLightDesc sun = testing::sunLight(3.0f, incidence);
@@ -273,11 +251,7 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
 // the distances).
 TEST_F(Multires, DebugPassesShowLevelsAndSelection) {
   SsMaterialDesc marble = testing::marbleMaterial(200.0f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
   ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
   const int size = 64;

@@ -30,17 +30,7 @@ class Reference : public ::testing::Test {
   // light behind: shadow terminators, curvature and thin-ish regions.
   void sphereScene() {
     SsMaterialDesc marble = testing::marbleMaterial(100.0f);
-    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-    SsMeshDesc desc = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
-    ASSERT_EQ(ssSetMesh(context, 0, &desc), SS_OK);
-    SsCameraDesc camera = testing::topDownCamera(0.35f);
-    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-    SsLightDesc lights[2] = {testing::sunLight(3.0f, 70.0f), {}};
-    lights[1].type = SS_LIGHT_POINT;
-    lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
-    lights[1].strength = 20.0f;
-    lights[1].position[0] = -0.3f, lights[1].position[2] = -0.6f;
-    ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK);
+    ASSERT_EQ(testing::setLitSphere(context, sphere, marble), SS_OK);
   }
   testing::EglContext gl;
   SsContext context = nullptr;
@@ -72,11 +62,7 @@ double relativeRmse(const std::vector<float>& image, const std::vector<float>& r
 // F_t(0)/pi E cos(theta) F_t(theta) Rd_total. The ruler must be within 1 %.
 TEST_F(Reference, PlaneExitanceWithinOnePercentOfDipoleTotalReflectance) {
   SsMaterialDesc marble = testing::marbleMaterial(200.0f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   for (float incidence : {0.0f, 60.0f}) {
     SsLightDesc sun = testing::sunLight(3.0f, incidence);
     ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);

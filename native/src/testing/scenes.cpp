@@ -50,6 +50,30 @@ SsMeshDesc Sphere::desc(const glm::vec3& centre, float radius, uint32_t material
   return d;
 }
 
+SsStatus setSlab(SsContext context, const Quad& quad, const SsMaterialDesc& material) {
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  SsCameraDesc camera = topDownCamera(0.5f);
+  SsStatus status = ssSetMaterial(context, 0, &material);
+  if (status == SS_OK) status = ssSetMesh(context, 0, &slab);
+  if (status == SS_OK) status = ssSetCamera(context, &camera);
+  return status;
+}
+
+SsStatus setLitSphere(SsContext context, const Sphere& sphere, const SsMaterialDesc& material) {
+  SsMeshDesc desc = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
+  SsCameraDesc camera = topDownCamera(0.35f);
+  SsLightDesc lights[2] = {sunLight(3.0f, 70.0f), {}};
+  lights[1].type = SS_LIGHT_POINT;
+  lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
+  lights[1].strength = 20.0f;
+  lights[1].position[0] = -0.3f, lights[1].position[2] = -0.6f;
+  SsStatus status = ssSetMaterial(context, 0, &material);
+  if (status == SS_OK) status = ssSetMesh(context, 0, &desc);
+  if (status == SS_OK) status = ssSetCamera(context, &camera);
+  if (status == SS_OK) status = ssSetLights(context, lights, 2);
+  return status;
+}
+
 SsMaterialDesc skinMaterial(float mmPerUnit) {
   SsMaterialDesc m = marbleMaterial(mmPerUnit);
   const float sa[3] = {0.032f, 0.17f, 0.48f}, ss[3] = {0.74f, 0.88f, 1.01f};

@@ -26,6 +26,14 @@ struct Sphere {
 
 SsMaterialDesc marbleMaterial(float mmPerUnit);
 SsMaterialDesc skinMaterial(float mmPerUnit);  // Skin1, Jensen et al. 2001
+// `material` (id 0) on a slab of half-size 2 (the quad), seen from above over
+// a square of half-size 0.5: the plane tests' scene. First failure, or SS_OK.
+SsStatus setSlab(SsContext context, const Quad& quad, const SsMaterialDesc& material);
+// `material` (id 0) on a sphere of radius 0.3, lit by a sun at 70 degrees and
+// a point light behind it, seen from above: terminators, curvature and a
+// thin rim. First failure, or SS_OK.
+SsStatus setLitSphere(SsContext context, const Sphere& sphere, const SsMaterialDesc& material);
+
 // Orthographic camera looking down -z at the origin from z = 5.
 SsCameraDesc topDownCamera(float halfWidth);
 SsLightDesc sunLight(float strength, float incidenceDegrees);
