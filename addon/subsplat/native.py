@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 4
+API_VERSION = 5
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
@@ -83,7 +83,9 @@ class Stats(ctypes.Structure):
                 ("translucent_pixels", ctypes.c_uint64), ("lit_translucent_pixels", ctypes.c_uint64),
                 ("nonfinite_pixels", ctypes.c_uint64), ("kernel_evaluations", ctypes.c_uint64),
                 ("levels", ctypes.c_int32), ("selected_per_level", ctypes.c_uint64 * 8),
-                ("splat_levels", ctypes.c_int32)]
+                ("splat_levels", ctypes.c_int32), ("splat_level_ms", ctypes.c_double * 8),
+                ("splat_level_fragments", ctypes.c_uint64 * 8), ("accumulation_ms", ctypes.c_double),
+                ("accumulation_fragments", ctypes.c_uint64)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -250,4 +252,8 @@ class Context:
             "nonfinite_pixels": int(s.nonfinite_pixels), "kernel_evaluations": int(s.kernel_evaluations),
             "levels": s.levels, "selected_per_level": [int(s.selected_per_level[k]) for k in range(max(s.levels, 0))],
             "splat_levels": s.splat_levels,
+            # the splatting stage's parts: each splatting level, then eq. 17's accumulation
+            "splat_level_ms": [s.splat_level_ms[k] for k in range(max(s.splat_levels, 0))],
+            "splat_level_fragments": [int(s.splat_level_fragments[k]) for k in range(max(s.splat_levels, 0))],
+            "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
         }

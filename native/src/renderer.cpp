@@ -190,12 +190,7 @@ void Renderer::render(int width, int height, float* rgba) {
       irradiance_.render(scene_, view);
       if (adaptive) irradiance_.buildHierarchy();
       profiler.end();
-      if (!translucent.empty()) {
-        profiler.begin(SS_STAGE_SPLATTING);
-        stats_.splat_count +=
-            splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, stats_.selected_per_level);
-        profiler.end();
-      }
+      if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
       profiler.begin(SS_STAGE_SHADING);
       shading_.directLighting(scene_, view, irradiance_, splatting_);
       profiler.end();
@@ -204,10 +199,9 @@ void Renderer::render(int width, int height, float* rgba) {
     }
   }
   if (!translucent.empty()) {  // (one level: only keeps the debug copy)
-    profiler.begin(SS_STAGE_SPLATTING);
-    splats_.accumulate(scene_, splatting_,
-                       {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()});
-    profiler.end();
+    splats_.accumulate(scene_, splatting_, {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()},
+                       profiler);
+    stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
   profiler.begin(SS_STAGE_SHADING);
   shading_.finalShading(scene_, splatting_, splats_.exitance(), settings_.background);

@@ -281,3 +281,41 @@ TEST_F(Multires, DebugPassesShowLevelsAndSelection) {
 
 }  // namespace
 }  // namespace subsplat
+
+namespace subsplat {
+namespace {
+
+// The splatting stage's figures split into its parts (the paper's Table 2):
+// the levels' and the accumulation's fragments and times add up to the
+// stage's. (A level may be empty: where R-bar saturates at 1 for two adjacent
+// levels, the coarser one takes all of the tail beyond R_P.)
+TEST_F(Multires, StatsSplitSplattingIntoLevelsAndAccumulation) {
+  SsMaterialDesc marble = testing::marbleMaterial(50.0f);
+  ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  SsStats stats = renderWith(SS_METHOD_FULL, 128);
+  ASSERT_EQ(stats.splat_levels, 3);
+  if (!stats.statistics_available || !stats.timers_available) GTEST_SKIP() << "no pipeline statistics";
+  uint64_t parts = stats.accumulation_fragments, coarse = 0;
+  double partMs = stats.accumulation_ms;
+  for (int k = 0; k < stats.splat_levels; ++k) {
+    std::printf("level %d: %llu fragments, %.2f ms\n", k, (unsigned long long)stats.splat_level_fragments[k],
+                stats.splat_level_ms[k]);
+    if (k > 0) coarse += stats.splat_level_fragments[k];
+    parts += stats.splat_level_fragments[k];
+    partMs += stats.splat_level_ms[k];
+  }
+  for (int k = stats.splat_levels; k < 8; ++k) EXPECT_EQ(stats.splat_level_fragments[k], 0u);
+  EXPECT_GT(stats.splat_level_fragments[0], 0u);
+  EXPECT_GT(coarse, 0u) << "the coarse levels take the far distances";
+  EXPECT_GT(stats.accumulation_fragments, 0u);
+  EXPECT_EQ(parts, stats.fragment_invocations[SS_STAGE_SPLATTING]);
+  EXPECT_NEAR(partMs, stats.stage_ms[SS_STAGE_SPLATTING], 1e-6 * stats.stage_ms[SS_STAGE_SPLATTING] + 1e-9);
+  SsStats brute = renderWith(SS_METHOD_BRUTE, 128);
+  EXPECT_EQ(brute.accumulation_fragments, 0u) << "one level: nothing to gather";
+  EXPECT_EQ(brute.splat_level_fragments[0], brute.fragment_invocations[SS_STAGE_SPLATTING]);
+}
+
+}  // namespace
+}  // namespace subsplat

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 4
+#define SS_API_VERSION 5
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -157,6 +157,13 @@ typedef struct SsStats {
   int32_t levels;
   uint64_t selected_per_level[8];
   int32_t splat_levels;  /* splatting levels used (1: single resolution) */
+  /* SS_STAGE_SPLATTING split into its parts (the paper's Table 2): splatting into
+   * level k over all light views, and eq. 17's accumulation. The debug selection
+   * pass, when on, is in the stage total only. */
+  double splat_level_ms[8];
+  uint64_t splat_level_fragments[8];
+  double accumulation_ms;
+  uint64_t accumulation_fragments;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

@@ -51,6 +51,25 @@ void Splatting::clear() {
     glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
     glClearBufferfv(GL_COLOR, 0, zero);
   }
+  if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
+  const GLuint zeros[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+}
+
+uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint counts[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  uint64_t selected = 0;
+  for (int k = 0; k < 8; ++k) {
+    selectedPerLevel[k] += counts[k];
+    selected += counts[k];
+  }
+  return selected;
 }
 
 void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view,
@@ -80,9 +99,9 @@ void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightVi
   bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
 }
 
-uint64_t Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                          const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
-                          uint64_t selectedPerLevel[8]) {
+void Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                      const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+                      StageProfiler& profiler) {
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
@@ -91,11 +110,7 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   int levels = selection.levels;
-  if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
-  const GLuint zeros[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, counts_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, counts_.id());  // zeroed by clear(), summed over views
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -110,13 +125,16 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
   bindTexture(6, GL_TEXTURE_2D, kernels.minimalRadius, p, "minimalRadius");
   glBindVertexArray(empty_.id());
   for (int k = 0; k < splatLevels; ++k) {
+    profiler.begin(SS_STAGE_SPLATTING, k);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
     glUniform1i(uniform(p, "splatLevel"), k);
     glDrawArrays(GL_POINTS, 0, offsets[levels]);
+    profiler.end();
   }
   glDisable(GL_BLEND);
   if (debug_) {  // the selection pass: splat.vert's selection, drawn as points
+    profiler.begin(SS_STAGE_SPLATTING);
     GLuint d = selectionProgram_.id();
     glUseProgram(d);
     GLint unused[9];
@@ -125,26 +143,19 @@ uint64_t Splatting::splat(const Scene& scene, const LightView& view, const Irrad
     glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
     glViewport(0, 0, width_, height_);
     glDrawArrays(GL_POINTS, 0, offsets[levels]);
+    profiler.end();
   }
   glBindVertexArray(0);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  GLuint counts[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
-  uint64_t selected = 0;
-  for (int k = 0; k < 8; ++k) {
-    selectedPerLevel[k] += counts[k];
-    selected += counts[k];
-  }
-  return selected;
 }
 
-void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights) {
+void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
+                           StageProfiler& profiler) {
   int levels = int(exitance_.size());
   for (size_t k = 0; k < levelCopies_.size(); ++k)  // each level as splatted, for the debug pass
     glCopyImageSubData(exitance_[k].id(), GL_TEXTURE_2D, 0, 0, 0, 0, levelCopies_[k].id(), GL_TEXTURE_2D, 0, 0, 0,
                        0, std::max(width_ >> int(k), 1), std::max(height_ >> int(k), 1), 1);
   if (levels <= 1) return;
+  profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kAccumulation);
   if (!accumulateProgram_) accumulateProgram_ = gl::makeProgram("fullscreen.vert", "", "accumulate.frag");
   GLuint p = accumulateProgram_.id();
   glUseProgram(p);
@@ -168,6 +179,7 @@ void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting,
   }
   glBindVertexArray(0);
   glDisable(GL_BLEND);
+  profiler.end();
   gl::checkErrors("splat accumulation");
 }
 

@@ -5,6 +5,7 @@
 
 #include "gl/gl.h"
 #include "pipeline/buffers.h"
+#include "pipeline/stage_profiler.h"
 
 #include <vector>
 
@@ -35,15 +36,19 @@ class Splatting {
  public:
   // levels > 1: multiresolution splatting into that many exitance levels.
   void resize(int width, int height, int levels = 1);
-  void clear();
+  void clear();  // the exitance levels and the selection counters
   // Adds the selected lit translucent samples of `irradiance` to the exitance
-  // buffers (each level its range of distances); adds the samples selected per
-  // irradiance level to `selectedPerLevel` and returns their number.
-  uint64_t splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                 const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
-                 uint64_t selectedPerLevel[8]);
+  // buffers (each level its range of distances), each level in its own
+  // profiler span, and counts the samples selected per irradiance level.
+  void splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+             const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+             StageProfiler& profiler);
+  // The samples selected per irradiance level since clear(), added to
+  // `selectedPerLevel`; returns their sum. Reads the counters back once a frame.
+  uint64_t readSelectionCounts(uint64_t selectedPerLevel[8]);
   // Eq. 17: gathers the levels into level 0, coarse to fine.
-  void accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights);
+  void accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
+                  StageProfiler& profiler);
   GLuint exitance() const { return exitance_.front().id(); }
   int levels() const { return int(exitance_.size()); }
 

@@ -15,8 +15,9 @@ static gl::Query newQuery() {
   return gl::Query(id);
 }
 
-void StageProfiler::begin(SsStage stage) {
-  Span span{stage, {}, {}};
+void StageProfiler::begin(SsStage stage, int part) {
+  end();
+  Span span{stage, part, {}, {}};
   if (timers_) {
     span.time = newQuery();
     glBeginQuery(GL_TIME_ELAPSED, span.time.id());
@@ -39,14 +40,18 @@ void StageProfiler::end() {
 void StageProfiler::collect(SsStats& stats) {
   end();
   for (Span& span : spans_) {
-    GLuint64 value = 0;
-    if (span.time) {
-      glGetQueryObjectui64v(span.time.id(), GL_QUERY_RESULT, &value);
-      stats.stage_ms[span.stage] += double(value) * 1e-6;
-    }
-    if (span.fragments) {
-      glGetQueryObjectui64v(span.fragments.id(), GL_QUERY_RESULT, &value);
-      stats.fragment_invocations[span.stage] += value;
+    GLuint64 nanoseconds = 0, fragments = 0;
+    if (span.time) glGetQueryObjectui64v(span.time.id(), GL_QUERY_RESULT, &nanoseconds);
+    if (span.fragments) glGetQueryObjectui64v(span.fragments.id(), GL_QUERY_RESULT, &fragments);
+    double ms = double(nanoseconds) * 1e-6;
+    stats.stage_ms[span.stage] += ms;
+    stats.fragment_invocations[span.stage] += fragments;
+    if (span.part >= 0 && span.part < kAccumulation) {
+      stats.splat_level_ms[span.part] += ms;
+      stats.splat_level_fragments[span.part] += fragments;
+    } else if (span.part == kAccumulation) {
+      stats.accumulation_ms += ms;
+      stats.accumulation_fragments += fragments;
     }
   }
   stats.timers_available = timers_;

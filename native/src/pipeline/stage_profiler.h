@@ -1,4 +1,7 @@
-// GL timer and fragment-invocation queries per pipeline stage.
+// GL timer and fragment-invocation queries per pipeline stage. A span may name
+// a part of the splatting stage (a splatting level, or the accumulation), which
+// SsStats reports besides the stage total. Results are read once, in collect(),
+// so the queries never stall the frame.
 #pragma once
 
 #include <vector>
@@ -10,14 +13,17 @@ namespace subsplat {
 
 class StageProfiler {
  public:
+  static constexpr int kWhole = -1;         // the stage only
+  static constexpr int kAccumulation = 8;   // splatting: eq. 17; 0..7: splatting level k
   StageProfiler();
-  void begin(SsStage stage);  // one stage at a time
+  void begin(SsStage stage, int part = kWhole);  // one span at a time
   void end();
   void collect(SsStats& stats);  // waits for the results, adds them to stats
 
  private:
   struct Span {
     SsStage stage;
+    int part;
     gl::Query time, fragments;
   };
   std::vector<Span> spans_;
