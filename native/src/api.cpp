@@ -11,6 +11,7 @@
 
 #include "material/splat_kernel.h"
 #include "renderer.h"
+#include "scene_file.h"
 #include "subsplat/subsplat.h"
 #include "util/error.h"
 
@@ -158,6 +159,27 @@ SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback callback, v
       return;
     }
     r.setProgress([callback, user](double fraction) { return callback(float(fraction), user) == 0; });
+  });
+}
+
+SsStatus ssSaveScene(SsContext context, const char* path) {
+  return guarded("ssSaveScene", [&] {
+    const subsplat::Renderer& r = renderer(context);
+    subsplat::saveScene(r, &deref(path, "path"));
+  });
+}
+
+SsStatus ssLoadScene(SsContext context, const char* path, int32_t* frameWidth, int32_t* frameHeight) {
+  return guarded("ssLoadScene", [&] {
+    if (frameWidth) *frameWidth = 0;
+    if (frameHeight) *frameHeight = 0;
+    subsplat::Renderer& r = renderer(context);
+    const char* p = &deref(path, "path");
+    requireGlContext();
+    subsplat::gl::StateGuard guard;
+    subsplat::FrameSize frame = subsplat::loadScene(r, p);
+    if (frameWidth) *frameWidth = frame.width;
+    if (frameHeight) *frameHeight = frame.height;
   });
 }
 

@@ -17,7 +17,12 @@ class Renderer {
   static constexpr float kDefaultLambda = 8.0f;
   Renderer();
   Scene& scene() { return scene_; }
+  const Scene& scene() const { return scene_; }
   void setSettings(const SsSettings& settings);
+  const SsSettings& settings() const { return settings_; }
+  // Size of the last successful render, 0 x 0 before the first.
+  int lastWidth() const { return lastWidth_; }
+  int lastHeight() const { return lastHeight_; }
   void render(int width, int height, float* rgba);
   const SsStats& stats() const { return stats_; }
   void setProgress(ProgressFunction progress) { progress_ = std::move(progress); }

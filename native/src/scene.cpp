@@ -127,6 +127,11 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
     mesh.materialIds.assign(d.triangle_materials, d.triangle_materials + d.triangle_count);
   mesh.cpuPositions.assign(p, p + d.vertex_count);
   mesh.cpuNormals = normals;
+  if (d.uvs != nullptr) {
+    require(finite(d.uvs, 2 * size_t(d.vertex_count)), name + ": a texture coordinate is not finite");
+    const glm::vec2* uv = reinterpret_cast<const glm::vec2*>(d.uvs);
+    mesh.cpuUvs.assign(uv, uv + d.vertex_count);
+  }
   mesh.cpuIndices.assign(d.indices, d.indices + 3 * size_t(d.triangle_count));
   for (uint32_t v = 0; v < d.vertex_count; ++v)
     mesh.worldBounds.extend(glm::vec3(mesh.objectToWorld * glm::vec4(p[v], 1.0f)));

@@ -33,6 +33,7 @@ struct Mesh {
   std::vector<uint32_t> materialIds; // caller's material id per triangle
   // CPU copies for REFERENCE (object space; normals after repair).
   std::vector<glm::vec3> cpuPositions, cpuNormals;
+  std::vector<glm::vec2> cpuUvs;  // empty when the caller gave none
   std::vector<uint32_t> cpuIndices;
   std::vector<uint32_t> denseMaterials;  // per triangle, after resolveMaterials()
   uint32_t triangleCount = 0;
@@ -67,6 +68,7 @@ class Scene {
   void resolveMaterials();
 
   const std::map<uint32_t, Mesh>& meshes() const { return meshes_; }
+  const std::map<uint32_t, Material>& materials() const { return materials_; }
   const std::vector<Material>& denseMaterials() const { return dense_; }
   const std::vector<SsLightDesc>& lights() const { return lights_; }
   const SsCameraDesc& camera() const { return camera_; }

@@ -207,6 +207,15 @@ SS_API SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_
 /* NULL callback: none. */
 SS_API SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback callback, void* user);
 
+/* Scene files (docs/SCENE_FILE.md): everything the context was given (materials,
+ * meshes, lights, camera, settings) and the size of its last frame, for replaying a
+ * frame without the host application (subsplat_replay) and for bug reports. Paths
+ * are UTF-8. Loading replaces the context's scene and settings through the same
+ * checks as the calls above; on failure the scene is left empty. frame_width and
+ * frame_height may be NULL; they get 0 when the file holds no frame. */
+SS_API SsStatus ssSaveScene(SsContext context, const char* path);
+SS_API SsStatus ssLoadScene(SsContext context, const char* path, int32_t* frame_width, int32_t* frame_height);
+
 /* Material model, no GL needed. */
 typedef struct SsProfileInfo {
   float total_reflectance[3];  /* Rd_total: integral of R_d over the plane */

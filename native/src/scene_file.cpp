@@ -1,0 +1,238 @@
+#include "scene_file.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <type_traits>
+#include <vector>
+
+#include "util/error.h"
+
+namespace subsplat {
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
+constexpr uint32_t kFormatVersion = 1;
+enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
+constexpr uint32_t kMeshHasUvs = 1;
+
+// The API structs are written as they lie in memory: 4-byte fields only, no
+// padding (asserted), little-endian (the only byte order the library builds for).
+static_assert(sizeof(SsMaterialDesc) == 14 * 4 && sizeof(SsLightDesc) == 13 * 4 &&
+                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 14 * 4,
+              "scene file records mirror the API structs; bump kFormatVersion when they change");
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "scene files are little-endian");
+
+class Writer {
+ public:
+  template <typename T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const char* p = reinterpret_cast<const char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  template <typename T>
+  void putArray(const std::vector<T>& values) {
+    const char* p = reinterpret_cast<const char*>(values.data());
+    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
+  }
+  // A record: tag, payload size, payload written by `body`.
+  template <typename F>
+  void record(Tag tag, F&& body) {
+    put(uint32_t(tag));
+    put(uint32_t(0));
+    size_t sizeAt = bytes_.size();
+    put(uint64_t(0));
+    body();
+    uint64_t size = bytes_.size() - sizeAt - sizeof(uint64_t);
+    std::memcpy(bytes_.data() + sizeAt, &size, sizeof size);
+  }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const char* data, size_t size, std::string what) : data_(data), size_(size), what_(std::move(what)) {}
+  template <typename T>
+  T get() {
+    T value;
+    take(&value, sizeof(T));
+    return value;
+  }
+  template <typename T>
+  std::vector<T> getArray(size_t count) {
+    require(count <= remaining() / sizeof(T), what_ + ": truncated (" + std::to_string(count) +
+                                                    " elements announced, " + std::to_string(remaining()) +
+                                                    " bytes left)");
+    std::vector<T> values(count);
+    take(values.data(), count * sizeof(T));
+    return values;
+  }
+  size_t remaining() const { return size_ - at_; }
+  const std::string& what() const { return what_; }
+
+ private:
+  void take(void* out, size_t n) {
+    require(n <= remaining(), what_ + ": truncated");
+    std::memcpy(out, data_ + at_, n);
+    at_ += n;
+  }
+  const char* data_;
+  size_t size_, at_ = 0;
+  std::string what_;
+};
+
+std::string systemError() { return std::strerror(errno); }
+
+template <typename T>
+std::vector<float> flatten(const std::vector<T>& v) {
+  std::vector<float> out;
+  out.reserve(v.size() * T::length());
+  for (const T& x : v)
+    for (int i = 0; i < T::length(); ++i) out.push_back(x[i]);
+  return out;
+}
+
+void readMesh(Renderer& renderer, Reader& r) {
+  uint32_t id = r.get<uint32_t>(), vertexCount = r.get<uint32_t>(), triangleCount = r.get<uint32_t>();
+  uint32_t flags = r.get<uint32_t>();
+  SsMeshDesc desc{};
+  for (float& m : desc.object_to_world) m = r.get<float>();
+  std::vector<float> positions = r.getArray<float>(3 * size_t(vertexCount));
+  std::vector<float> normals = r.getArray<float>(3 * size_t(vertexCount));
+  std::vector<float> uvs;
+  if (flags & kMeshHasUvs) uvs = r.getArray<float>(2 * size_t(vertexCount));
+  std::vector<uint32_t> indices = r.getArray<uint32_t>(3 * size_t(triangleCount));
+  std::vector<uint32_t> materials = r.getArray<uint32_t>(triangleCount);
+  desc.positions = positions.data();
+  desc.normals = normals.data();
+  desc.uvs = uvs.empty() ? nullptr : uvs.data();
+  desc.vertex_count = vertexCount;
+  desc.indices = indices.data();
+  desc.triangle_materials = materials.data();
+  desc.triangle_count = triangleCount;
+  renderer.scene().setMesh(id, desc);
+}
+
+FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const std::string& path) {
+  FrameSize frame;
+  Reader file(bytes.data(), bytes.size(), path);
+  char magic[8];
+  for (char& c : magic) c = file.get<char>();
+  require(std::memcmp(magic, kMagic, sizeof magic) == 0, path + " is not a subsplat scene file");
+  uint32_t version = file.get<uint32_t>();
+  require(version == kFormatVersion, path + ": scene file format " + std::to_string(version) +
+                                         " is not supported (this library reads format " +
+                                         std::to_string(kFormatVersion) + ")");
+  file.get<uint32_t>();  // API version that wrote it, informational
+  int index = 0;
+  while (file.remaining() > 0) {
+    uint32_t tag = file.get<uint32_t>();
+    file.get<uint32_t>();
+    uint64_t size = file.get<uint64_t>();
+    require(size <= file.remaining(), path + ": record " + std::to_string(index) + " is truncated");
+    std::vector<char> payload = file.getArray<char>(size);
+    Reader r(payload.data(), payload.size(), path + ", record " + std::to_string(index));
+    switch (tag) {
+      case kMaterial: {
+        uint32_t id = r.get<uint32_t>();
+        renderer.scene().setMaterial(id, r.get<SsMaterialDesc>());
+        break;
+      }
+      case kMesh:
+        readMesh(renderer, r);
+        break;
+      case kLights: {
+        uint32_t count = r.get<uint32_t>();
+        std::vector<SsLightDesc> lights = r.getArray<SsLightDesc>(count);
+        renderer.scene().setLights(lights.data(), count);
+        break;
+      }
+      case kCamera:
+        renderer.scene().setCamera(r.get<SsCameraDesc>());
+        break;
+      case kSettings:
+        renderer.setSettings(r.get<SsSettings>());
+        break;
+      case kFrame:
+        frame.width = r.get<int32_t>();
+        frame.height = r.get<int32_t>();
+        require(frame.width > 0 && frame.height > 0 && frame.width <= 65536 && frame.height <= 65536,
+                r.what() + ": frame size out of range");
+        break;
+      default:
+        break;  // a newer writer's record: skipped, so that old readers keep working
+    }
+    require(r.remaining() == 0, r.what() + ": " + std::to_string(r.remaining()) + " bytes past its end");
+    ++index;
+  }
+  return frame;
+}
+
+}  // namespace
+
+void saveScene(const Renderer& renderer, const std::string& path) {
+  const Scene& scene = renderer.scene();
+  Writer w;
+  for (char c : kMagic) w.put(c);
+  w.put(kFormatVersion);
+  w.put(uint32_t(SS_API_VERSION));
+  for (const auto& [id, material] : scene.materials())
+    w.record(kMaterial, [&] {
+      w.put(id);
+      w.put(material.desc);
+    });
+  for (const auto& [id, mesh] : scene.meshes())
+    w.record(kMesh, [&] {
+      w.put(id);
+      w.put(uint32_t(mesh.cpuPositions.size()));
+      w.put(mesh.triangleCount);
+      w.put(uint32_t(mesh.cpuUvs.empty() ? 0 : kMeshHasUvs));
+      for (int i = 0; i < 16; ++i) w.put(glm::value_ptr(mesh.objectToWorld)[i]);
+      w.putArray(flatten(mesh.cpuPositions));
+      w.putArray(flatten(mesh.cpuNormals));
+      if (!mesh.cpuUvs.empty()) w.putArray(flatten(mesh.cpuUvs));
+      w.putArray(mesh.cpuIndices);
+      w.putArray(mesh.materialIds);
+    });
+  w.record(kLights, [&] {
+    w.put(uint32_t(scene.lights().size()));
+    w.putArray(scene.lights());
+  });
+  if (scene.hasCamera()) w.record(kCamera, [&] { w.put(scene.camera()); });
+  w.record(kSettings, [&] { w.put(renderer.settings()); });
+  if (renderer.lastWidth() > 0)
+    w.record(kFrame, [&] {
+      w.put(int32_t(renderer.lastWidth()));
+      w.put(int32_t(renderer.lastHeight()));
+    });
+
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) fail(SS_INVALID_ARGUMENT, "cannot write " + path + ": " + systemError());
+  out.write(w.bytes().data(), std::streamsize(w.bytes().size()));
+  out.close();
+  if (!out) fail(SS_INVALID_ARGUMENT, "writing " + path + " failed: " + systemError());
+}
+
+FrameSize loadScene(Renderer& renderer, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(SS_INVALID_ARGUMENT, "cannot read " + path + ": " + systemError());
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail(SS_INVALID_ARGUMENT, "reading " + path + " failed: " + systemError());
+  renderer.scene().clear();
+  try {
+    return readRecords(renderer, bytes, path);
+  } catch (...) {
+    renderer.scene().clear();
+    throw;
+  }
+}
+
+}  // namespace subsplat
