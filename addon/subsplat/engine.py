@@ -1,5 +1,6 @@
 """The SubSplat RenderEngine: a thin layer that exports the frame and forwards it to the library."""
 import os
+import re
 import sys
 import time
 
@@ -141,6 +142,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         pixels = context.render(width, height, progress)
         exitance = context.exitance_pass(width, height)
         stats = context.stats()
+        if settings.scene_file:
+            stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
+            context.save_scene(stats["scene_file"])
         stats.update(method=settings.method, export_ms=export_ms, meshes=len(frame.meshes),
                      lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution,
                      reference_samples=settings.reference_samples)
@@ -168,6 +172,12 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             detail = (f"{stats['splat_count']} splats, {stats['levels']} irradiance / "
                       f"{stats['splat_levels']} splatting levels")
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
+
+
+def scene_file_path(setting, frame):
+    """The Save Scene File setting as an absolute path, runs of '#' replaced by the zero-padded frame."""
+    path = bpy.path.abspath(setting)
+    return re.sub(r"#+", lambda run: str(frame).zfill(len(run.group())), path)
 
 
 def report_progress(engine, fraction):

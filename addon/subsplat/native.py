@@ -124,6 +124,9 @@ def library():
             "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
             "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
             "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
+            "ssGetSettings": [handle, ctypes.POINTER(Settings)],
+            "ssSaveScene": [handle, ctypes.c_char_p],
+            "ssLoadScene": [handle, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_int32)],
         }
         for name, args in signatures.items():
             function = getattr(lib, name)
@@ -203,6 +206,22 @@ class Context:
 
     def set_settings(self, settings):
         _check(library().ssSetSettings(self._handle, ctypes.byref(settings)))
+
+    def settings(self):
+        """The settings in effect, defaults filled in."""
+        settings = Settings()
+        _check(library().ssGetSettings(self._handle, ctypes.byref(settings)))
+        return settings
+
+    def save_scene(self, path):
+        """Writes what this context was given to a scene file (docs/SCENE_FILE.md)."""
+        _check(library().ssSaveScene(self._handle, os.fsencode(path)))
+
+    def load_scene(self, path):
+        """Replaces the scene and settings with a scene file's; returns its frame size (0, 0 if none)."""
+        width, height = ctypes.c_int32(), ctypes.c_int32()
+        _check(library().ssLoadScene(self._handle, os.fsencode(path), ctypes.byref(width), ctypes.byref(height)))
+        return width.value, height.value
 
     def render(self, width, height, progress=None):
         """Linear RGBA float32 pixels, shape (height, width, 4), bottom row first.

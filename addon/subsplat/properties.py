@@ -1,6 +1,7 @@
 """Settings on Scene (scene.subsplat) and Material (material.subsplat)."""
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty,
+                       StringProperty)
 
 from . import presets
 
@@ -52,6 +53,11 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         description="Add the passes 'SubSplat Samples' (selected irradiance samples, a colour per level: "
                     "red, green, blue, yellow, ...) and 'SubSplat Level k' (each splatting level's own "
                     "exitance) to final renders")
+    scene_file: StringProperty(
+        name="Save Scene File", default="", subtype="FILE_PATH",
+        description="After each render, save what the library was given (meshes, materials, lights, camera, "
+                    "settings) to this file: for replaying the frame without Blender (subsplat_replay) and for "
+                    "bug reports. '#' characters become the frame number. Empty: off")
     reference_samples: IntProperty(
         name="Reference Samples", default=200000, min=1000, max=100000000, soft_min=10000, soft_max=4000000,
         description="Reference: surface samples spread by area over all translucent surfaces together "

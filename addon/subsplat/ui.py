@@ -25,6 +25,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.prop(settings, "method")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
+            layout.prop(settings, "scene_file")
             return
         layout.prop(settings, "irradiance_resolution")
         if settings.method in {"MULTIRES", "ADAPTIVE", "FULL"}:
@@ -37,6 +38,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "lambda_z")
             layout.prop(settings, "lambda_m")
         layout.prop(settings, "debug_passes")
+        layout.prop(settings, "scene_file")
 
 
 class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):

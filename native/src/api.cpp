@@ -136,6 +136,13 @@ SsStatus ssSetSettings(SsContext context, const SsSettings* settings) {
   return guarded("ssSetSettings", [&] { renderer(context).setSettings(deref(settings, "settings")); });
 }
 
+SsStatus ssGetSettings(SsContext context, SsSettings* out) {
+  return guarded("ssGetSettings", [&] {
+    if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
+    *out = renderer(context).settings();
+  });
+}
+
 SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba) {
   return guarded("ssRender", [&] { renderer(context).render(width, height, rgba); });
 }

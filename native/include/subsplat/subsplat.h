@@ -198,6 +198,8 @@ SS_API SsStatus ssClearScene(SsContext context);
 SS_API SsStatus ssSetLights(SsContext context, const SsLightDesc* lights, uint32_t count);
 SS_API SsStatus ssSetCamera(SsContext context, const SsCameraDesc* camera);
 SS_API SsStatus ssSetSettings(SsContext context, const SsSettings* settings);
+/* The settings in effect, defaults filled in (0 fields replaced by their values). */
+SS_API SsStatus ssGetSettings(SsContext context, SsSettings* out);
 
 /* Renders width x height and writes linear RGBA floats, bottom row first. */
 SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);

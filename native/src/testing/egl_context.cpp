@@ -4,6 +4,7 @@
 #include <epoxy/gl.h>
 
 #include <stdexcept>
+#include <vector>
 
 namespace subsplat::testing {
 
@@ -12,14 +13,36 @@ struct EglContext::Impl {
   EGLContext context = EGL_NO_CONTEXT;
 };
 
-EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
+namespace {
+
+// Displays to try, in order: Mesa's surfaceless platform (llvmpipe and Mesa
+// GPU drivers), the first EGL device (NVIDIA's headless driver), the default.
+std::vector<EGLDisplay> candidateDisplays() {
+  std::vector<EGLDisplay> displays;
   auto getPlatformDisplay =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  if (getPlatformDisplay)
-    impl_->display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (impl_->display == EGL_NO_DISPLAY) impl_->display = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-  if (impl_->display == EGL_NO_DISPLAY || !eglInitialize(impl_->display, nullptr, nullptr))
-    throw std::runtime_error("EGL: no display");
+  if (getPlatformDisplay) {
+    displays.push_back(getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
+    auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    EGLDeviceEXT devices[8];
+    EGLint count = 0;
+    if (queryDevices && queryDevices(8, devices, &count) && count > 0)
+      displays.push_back(getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr));
+  }
+  displays.push_back(eglGetDisplay(EGL_DEFAULT_DISPLAY));
+  return displays;
+}
+
+}  // namespace
+
+EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
+  for (EGLDisplay display : candidateDisplays()) {
+    if (display != EGL_NO_DISPLAY && eglInitialize(display, nullptr, nullptr)) {
+      impl_->display = display;
+      break;
+    }
+  }
+  if (impl_->display == EGL_NO_DISPLAY) throw std::runtime_error("EGL: no display");
   if (!eglBindAPI(EGL_OPENGL_API)) throw std::runtime_error("EGL: no desktop OpenGL");
   const EGLint config[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
                            EGL_NONE};

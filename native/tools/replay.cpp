@@ -1,0 +1,329 @@
+// subsplat_replay: renders scene files (ssSaveScene, written by the add-on)
+// through the C API in its own surfaceless EGL context, without Blender. It is
+// the native half of bench/methods.py: every method, round-robin, median frame
+// time, GL time and fragment invocations per stage and per splatting level,
+// and relative RMSE against REFERENCE. Prints a table; --json writes the
+// figures for bench/replay.py, --images writes PFM images.
+//
+//   subsplat_replay [options] SCENE.ssscene...
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <epoxy/gl.h>
+
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+
+namespace {
+
+const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"};
+const char* const kStageNames[] = {"buffers", "splatting", "shading", "readback"};
+
+struct Options {
+  std::vector<std::string> scenes;
+  std::vector<int> methods{SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL};
+  int runs = 3;
+  int width = 0, height = 0;  // 0: the frame size saved in the file
+  int levels = -1;            // -1: as saved
+  int irradianceResolution = 0;
+  uint32_t referenceSamples = 0;
+  bool reference = true;
+  std::string json, images;
+};
+
+[[noreturn]] void usage(const std::string& problem) {
+  if (!problem.empty()) std::fprintf(stderr, "subsplat_replay: %s\n\n", problem.c_str());
+  std::fprintf(stderr,
+               "usage: subsplat_replay [options] SCENE.ssscene...\n"
+               "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four)\n"
+               "  --runs N                renders per method, round-robin (default 3)\n"
+               "  --size WxH              frame size (default: the size saved with the scene)\n"
+               "  --levels N              0 automatic, 1-8 forced (default: as saved)\n"
+               "  --irradiance N          irradiance buffer resolution (default: as saved)\n"
+               "  --no-reference          skip REFERENCE and the error columns\n"
+               "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
+               "  --json FILE             write every figure as JSON\n"
+               "  --images DIR            write each method's image as DIR/<scene>_<method>.pfm\n");
+  std::exit(2);
+}
+
+int parseInt(const std::string& text, const char* what) {
+  char* end = nullptr;
+  long value = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || value < 0 || value > 1 << 30) usage(std::string("bad ") + what + ": " + text);
+  return int(value);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--methods") {
+      o.methods.clear();
+      std::stringstream list(value());
+      for (std::string name; std::getline(list, name, ',');) {
+        auto it = std::find_if(std::begin(kMethodNames), std::end(kMethodNames) - 1,
+                               [&](const char* m) { return name == m; });
+        if (it == std::end(kMethodNames) - 1) usage("unknown method " + name);
+        o.methods.push_back(int(it - std::begin(kMethodNames)));
+      }
+    } else if (a == "--runs") {
+      o.runs = std::max(1, parseInt(value(), "run count"));
+    } else if (a == "--size") {
+      std::string s = value();
+      size_t x = s.find('x');
+      if (x == std::string::npos) usage("--size wants WxH, got " + s);
+      o.width = parseInt(s.substr(0, x), "width");
+      o.height = parseInt(s.substr(x + 1), "height");
+    } else if (a == "--levels") {
+      o.levels = parseInt(value(), "levels");
+    } else if (a == "--irradiance") {
+      o.irradianceResolution = parseInt(value(), "irradiance resolution");
+    } else if (a == "--no-reference") {
+      o.reference = false;
+    } else if (a == "--reference-samples") {
+      o.referenceSamples = uint32_t(parseInt(value(), "reference samples"));
+    } else if (a == "--json") {
+      o.json = value();
+    } else if (a == "--images") {
+      o.images = value();
+    } else if (a == "-h" || a == "--help") {
+      usage("");
+    } else if (!a.empty() && a[0] == '-') {
+      usage("unknown option " + a);
+    } else {
+      o.scenes.push_back(a);
+    }
+  }
+  if (o.scenes.empty()) usage("no scene file given");
+  return o;
+}
+
+struct Failure {
+  std::string message;
+};
+
+void check(SsStatus status, const std::string& what) {
+  if (status != SS_OK) throw Failure{what + ": " + ssGetLastError()};
+}
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgba, exitance;
+};
+
+struct Errors {
+  double radiance = 0.0, exitance = 0.0;
+  long pixels = 0;
+};
+
+// As tests/blender/accuracy.py compare(): over pixels both mark translucent,
+// sqrt(mean (I - R)^2) / sqrt(mean R^2) over rgb, of radiance and of exitance.
+Errors compare(const Image& image, const Image& reference) {
+  double d2 = 0, r2 = 0, e2 = 0, b2 = 0;
+  Errors errors;
+  for (size_t i = 0; i + 3 < image.rgba.size(); i += 4) {
+    if (image.exitance[i + 3] <= 0.5f || reference.exitance[i + 3] <= 0.5f) continue;
+    ++errors.pixels;
+    for (int c = 0; c < 3; ++c) {
+      d2 += std::pow(double(image.rgba[i + c]) - reference.rgba[i + c], 2);
+      r2 += std::pow(double(reference.rgba[i + c]), 2);
+      e2 += std::pow(double(image.exitance[i + c]) - reference.exitance[i + c], 2);
+      b2 += std::pow(double(reference.exitance[i + c]), 2);
+    }
+  }
+  errors.radiance = r2 > 0 ? std::sqrt(d2 / r2) : 0.0;
+  errors.exitance = b2 > 0 ? std::sqrt(e2 / b2) : 0.0;
+  return errors;
+}
+
+void writePfm(const std::string& path, const Image& image) {
+  std::ofstream out(path, std::ios::binary);
+  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";  // little-endian, bottom row first
+  for (size_t i = 0; i < image.rgba.size(); i += 4) out.write(reinterpret_cast<const char*>(&image.rgba[i]), 12);
+  if (!out) throw Failure{"cannot write " + path};
+}
+
+struct Result {
+  int method = 0;
+  std::vector<SsStats> runs;
+  SsStats fastest{};
+  double medianMs = 0.0;
+  Errors errors;
+  bool hasErrors = false;
+};
+
+std::string baseName(const std::string& path) {
+  std::string name = path.substr(path.find_last_of('/') + 1);
+  return name.substr(0, name.find('.'));
+}
+
+std::string cpuName() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+std::string jsonEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options = parse(argc, argv);
+  try {
+    subsplat::testing::EglContext gl;
+    SsContext context = nullptr;
+    check(ssNewContext(&context), "ssNewContext");
+    std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    std::printf("OpenGL renderer: %s; CPU: %s\n", renderer.c_str(), cpuName().c_str());
+    std::ostringstream json;
+    json << "{\"renderer\": \"" << jsonEscape(renderer) << "\", \"cpu\": \"" << jsonEscape(cpuName())
+         << "\", \"api_version\": " << ssGetApiVersion() << ", \"runs\": " << options.runs << ", \"scenes\": [";
+    for (size_t s = 0; s < options.scenes.size(); ++s) {
+      const std::string& path = options.scenes[s];
+      int32_t savedWidth = 0, savedHeight = 0;
+      check(ssLoadScene(context, path.c_str(), &savedWidth, &savedHeight), "loading " + path);
+      int width = options.width > 0 ? options.width : savedWidth;
+      int height = options.height > 0 ? options.height : savedHeight;
+      if (width <= 0 || height <= 0) throw Failure{path + " holds no frame size: give --size"};
+      // The settings as saved, with the command line's overrides.
+      SsSettings saved{};
+      check(ssGetSettings(context, &saved), "ssGetSettings");
+      auto settingsFor = [&](int method) {
+        SsSettings settings = saved;
+        settings.method = method;
+        if (options.irradianceResolution > 0) settings.irradiance_resolution = options.irradianceResolution;
+        if (options.levels >= 0) settings.levels = options.levels;
+        if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
+        return settings;
+      };
+      std::map<int, Result> results;
+      std::map<int, Image> images;
+      for (int run = 0; run < options.runs; ++run) {
+        for (int method : options.methods) {
+          SsSettings settings = settingsFor(method);
+          check(ssSetSettings(context, &settings), "settings");
+          Image& image = images[method];
+          image.width = width, image.height = height;
+          image.rgba.resize(size_t(width) * height * 4);
+          check(ssRender(context, width, height, image.rgba.data()), std::string("rendering ") + kMethodNames[method]);
+          SsStats stats{};
+          check(ssGetStats(context, &stats), "stats");
+          results[method].method = method;
+          results[method].runs.push_back(stats);
+          if (run == 0) {
+            image.exitance.resize(image.rgba.size());
+            check(ssGetPass(context, SS_PASS_EXITANCE, width, height, image.exitance.data()), "exitance pass");
+          }
+          std::printf("%s %s run %d: %.0f ms\n", baseName(path).c_str(), kMethodNames[method], run + 1,
+                      stats.frame_ms);
+          std::fflush(stdout);
+        }
+      }
+      Image reference;
+      if (options.reference) {
+        SsSettings settings = settingsFor(SS_METHOD_REFERENCE);
+        check(ssSetSettings(context, &settings), "settings");
+        reference.width = width, reference.height = height;
+        reference.rgba.resize(size_t(width) * height * 4);
+        reference.exitance.resize(reference.rgba.size());
+        check(ssRender(context, width, height, reference.rgba.data()), "rendering REFERENCE");
+        check(ssGetPass(context, SS_PASS_EXITANCE, width, height, reference.exitance.data()), "exitance pass");
+        SsStats stats{};
+        check(ssGetStats(context, &stats), "stats");
+        std::printf("%s REFERENCE: %.0f ms, %llu samples\n", baseName(path).c_str(), stats.frame_ms,
+                    (unsigned long long)stats.splat_count);
+        if (!options.images.empty()) writePfm(options.images + "/" + baseName(path) + "_REFERENCE.pfm", reference);
+      }
+      for (auto& [method, result] : results) {
+        std::vector<double> ms;
+        for (const SsStats& st : result.runs) ms.push_back(st.frame_ms);
+        std::sort(ms.begin(), ms.end());
+        result.medianMs = ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+        result.fastest = *std::min_element(result.runs.begin(), result.runs.end(),
+                                           [](const SsStats& a, const SsStats& b) { return a.frame_ms < b.frame_ms; });
+        if (options.reference) {
+          result.errors = compare(images[method], reference);
+          result.hasErrors = true;
+        }
+        if (!options.images.empty())
+          writePfm(options.images + "/" + baseName(path) + "_" + kMethodNames[method] + ".pfm", images[method]);
+      }
+
+      const Result* base = results.count(SS_METHOD_BRUTE) ? &results[SS_METHOD_BRUTE] : nullptr;
+      std::printf("\n%s (%dx%d)\n%-9s %7s %10s %8s %10s %8s %9s  %s\n", baseName(path).c_str(), width, height, "method",
+                  "levels", "median ms", "speed-up", "fragments", "ratio", "rel RMSE", "splatting ms: levels | accumulation");
+      json << (s ? ", " : "") << "{\"scene\": \"" << jsonEscape(baseName(path)) << "\", \"width\": " << width
+           << ", \"height\": " << height << ", \"methods\": [";
+      bool first = true;
+      for (const auto& [method, r] : results) {
+        const SsStats& st = r.fastest;
+        uint64_t fragments = 0;
+        for (uint64_t f : st.fragment_invocations) fragments += f;
+        uint64_t baseFragments = 0;
+        if (base)
+          for (uint64_t f : base->fastest.fragment_invocations) baseFragments += f;
+        std::string levels = std::to_string(st.levels) + "/" + std::to_string(st.splat_levels);
+        std::string perLevel;
+        for (int k = 0; k < st.splat_levels; ++k) perLevel += (k ? " " : "") + std::to_string(int(st.splat_level_ms[k] + 0.5));
+        perLevel += " | " + std::to_string(int(st.accumulation_ms + 0.5));
+        std::printf("%-9s %7s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", kMethodNames[method], levels.c_str(), r.medianMs,
+                    base ? base->medianMs / r.medianMs : 0.0, fragments / 1e6,
+                    base ? double(baseFragments) / std::max<uint64_t>(fragments, 1) : 0.0,
+                    r.hasErrors ? std::to_string(r.errors.radiance).substr(0, 7).c_str() : "-", perLevel.c_str());
+        json << (first ? "" : ", ") << "{\"method\": \"" << kMethodNames[method] << "\", \"median_frame_ms\": " << r.medianMs
+             << ", \"frame_ms\": [";
+        for (size_t i = 0; i < r.runs.size(); ++i) json << (i ? ", " : "") << r.runs[i].frame_ms;
+        json << "], \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels << ", \"stage_ms\": {";
+        for (int k = 0; k < SS_STAGE_COUNT; ++k) json << (k ? ", " : "") << "\"" << kStageNames[k] << "\": " << st.stage_ms[k];
+        json << "}, \"fragment_invocations\": {";
+        for (int k = 0; k < SS_STAGE_COUNT; ++k)
+          json << "\"" << kStageNames[k] << "\": " << st.fragment_invocations[k] << ", ";
+        json << "\"total\": " << fragments << "}, \"splat_level_ms\": [";
+        for (int k = 0; k < st.splat_levels; ++k) json << (k ? ", " : "") << st.splat_level_ms[k];
+        json << "], \"splat_level_fragments\": [";
+        for (int k = 0; k < st.splat_levels; ++k) json << (k ? ", " : "") << st.splat_level_fragments[k];
+        json << "], \"accumulation_ms\": " << st.accumulation_ms << ", \"accumulation_fragments\": " << st.accumulation_fragments
+             << ", \"splat_count\": " << st.splat_count;
+        if (r.hasErrors)
+          json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance;
+        json << "}";
+        first = false;
+      }
+      json << "]}";
+    }
+    json << "]}\n";
+    check(ssReleaseContext(context), "ssReleaseContext");
+    if (!options.json.empty()) {
+      std::ofstream out(options.json);
+      out << json.str();
+      if (!out) throw Failure{"cannot write " + options.json};
+    }
+    return 0;
+  } catch (const Failure& f) {
+    std::fprintf(stderr, "subsplat_replay: %s\n", f.message.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "subsplat_replay: %s\n", e.what());
+  }
+  return 1;
+}
