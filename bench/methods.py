@@ -1,36 +1,28 @@
-"""Every real-time method on every example scene in one run (the layout of the paper's Tables 1
-and 2): median frame time, speed-up over BRUTE, GL time and fragment-shader invocations per stage,
-the levels chosen. 800x600, 512^2 irradiance buffer, default settings. Writes docs/BENCHMARKS.md.
+"""Every real-time method on every example scene in one run (the paper's Tables 1 and 2), measured
+by the native replay: Blender exports each example as the library receives it (800x600, 512^2
+irradiance buffer, 3 levels: the paper's setting) into build/bench/<scene>.ssscene, then
+bench/replay.py renders the files with subsplat_replay and writes docs/BENCHMARKS.md. The same
+scene files replay without Blender (an NVIDIA machine: see docs/BENCHMARKS.md).
 
     BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
-        --python bench/methods.py -- [--repeats N]
+        --python bench/methods.py -- [--runs N] [--export-only]
 """
-import datetime
+import argparse
 import glob
+import json
 import os
-import statistics
-import subprocess
 import sys
 
 import bpy
 
-import subsplat
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import replay  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests", "blender"))
-import helpers  # noqa: E402
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COMMAND = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
            "--python bench/methods.py")
-METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
-
-
-def gl_renderer():
-    import gpu
-    try:
-        return gpu.platform.renderer_get()
-    except Exception:  # noqa: BLE001 - only informational
-        return "unknown"
+LEVELS = 3  # the paper's benchmark setting; FULL:0 adds the product default (automatic)
 
 
 def scattering_ranges(scene):
@@ -52,90 +44,59 @@ def scattering_ranges(scene):
     return lo, hi
 
 
-def measure(path, repeats):
-    """Every method on one scene, round-robin over the repeats so that drift in the machine's speed
-    (llvmpipe on shared cores) reaches every method alike."""
+def export(path, directory):
+    """Renders the example once as the benchmark sets it up, saving the scene file on the way."""
+    import subsplat
+    name = os.path.splitext(os.path.basename(path))[0]
     bpy.ops.wm.open_mainfile(filepath=path)
     scene = bpy.context.scene
     scene.render.engine = "SUBSPLAT"
     scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 800, 600, 100
     scene.subsplat.irradiance_resolution = 512
-    runs = {method: [] for method in METHODS}
-    for _ in range(repeats):
-        for method in METHODS:
-            scene.subsplat.method = method
-            bpy.ops.render.render(write_still=False)
-            runs[method].append(subsplat.last_render_stats())
-    ranges = scattering_ranges(scene)
-    result = {}
-    for method, stats in runs.items():
-        best = min(stats, key=lambda s: s["frame_ms"])
-        best["median_frame_ms"] = statistics.median(s["frame_ms"] for s in stats)
-        best["ranges"] = ranges
-        result[method] = best
-    return result
+    scene.subsplat.levels = LEVELS
+    scene.subsplat.method = "FULL"
+    scene.subsplat.scene_file = os.path.join(directory, f"{name}.ssscene")
+    bpy.ops.render.render(write_still=False)
+    error = subsplat.last_render_error()
+    if error:
+        raise RuntimeError(f"{name}: {error}")
+    return name, scene.subsplat.scene_file, scattering_ranges(scene)
 
 
 def main():
-    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    repeats = int(args[args.index("--repeats") + 1]) if "--repeats" in args else 3
-    rows = []
+    parser = argparse.ArgumentParser(prog="bench/methods.py")
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--export-only", action="store_true", help="write the scene files, measure nothing")
+    args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    directory = os.path.join(ROOT, "build", "bench")
+    os.makedirs(directory, exist_ok=True)
+    scenes, ranges = [], {}
     for path in sorted(glob.glob(os.path.join(ROOT, "example_blends", "*.blend"))):
-        name = os.path.splitext(os.path.basename(path))[0]
-        for method, stats in measure(path, repeats).items():
-            rows.append((name, method, stats))
-            print(name, method, stats, flush=True)
-    revision = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                              text=True).stdout.strip()
-    lines = [
-        "# Benchmarks",
-        "",
-        "## Methods (the paper's Tables 1 and 2)",
-        "",
-        f"Taken {datetime.date.today()} at revision `{revision}` on {helpers.machine()}, "
-        f"OpenGL renderer `{gl_renderer()}`, Blender {bpy.app.version_string}, by",
-        "",
-        f"    {COMMAND}",
-        "",
-        f"Each scene rendered {repeats} times per method, the methods in turn, at 800x600 with a 512^2 irradiance buffer per light "
-        "view (six views per point light), default settings (automatic levels). Frame time is the wall time "
-        "of `ssRender` (median over the runs); stage times are GL timer queries and fragment counts are "
-        "`GL_FRAGMENT_SHADER_INVOCATIONS` of the fastest run. On llvmpipe timings are noisy: compare the "
-        "ratios within a scene, and the invocation counts, which do not depend on the machine.",
-        "",
-        "| scene | scattering range / bounding radius | method | levels (irradiance / splatting) | frame ms (median) | speed-up | fragments | "
-        "fragment ratio | buffers | splatting (levels + accumulation) | shading | read-back |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    brute = {name: s for name, method, s in rows if method == "BRUTE"}
-    for name, method, s in rows:
-        ms, fi = s["stage_ms"], s["fragment_invocations"]
-        base = brute[name]
-        total_ms = sum(ms.values()) or 1.0
-        share = {k: 100.0 * v / total_ms for k, v in ms.items()}
-        lines.append(
-            f"| {name} | {s['ranges'][0]:.3f} - {s['ranges'][1]:.3f} | {method} | {s['levels']} / {s['splat_levels']} | {s['median_frame_ms']:.0f} | "
-            f"{base['median_frame_ms'] / s['median_frame_ms']:.2f}x | {fi['total'] / 1e6:.0f} M | "
-            f"{base['fragment_invocations']['total'] / max(fi['total'], 1):.2f}x | {share['buffers']:.1f} % | "
-            f"{share['splatting']:.1f} % | {share['shading']:.1f} % | {share['readback']:.1f} % |")
-    lines += [
-        "",
-        "With one irradiance level ADAPTIVE does exactly BRUTE's work (same fragment count); the",
-        "difference in their times is the machine's noise, a measure of how far to trust the others.",
-        "Stage shares are of the summed GL stage times. The splitting of splatting time per level",
-        "(Table 2's columns) needs per-level timer queries, which the profiler does not have yet.",
-        "",
-        "The paper reports 3-30x for FULL over no acceleration on an HD5870, for scenes whose",
-        "scattering ranges are 0.04-0.35 of the bounding radius (its Table 1). The range column gives",
-        "R_P (95 % energy, shortest to longest channel) over each translucent object's bounding-sphere",
-        "radius. Where the shortest range is too short for the 512^2 buffer, adaptive selection keeps",
-        "one irradiance level (see the levels column) and FULL's gain is multiresolution splatting alone.",
-        "",
-    ]
-    os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
+        name, scene_file, span = export(path, directory)
+        scenes.append(scene_file)
+        ranges[name] = span
+        print(f"exported {scene_file}; R_P / bounding radius {span[0]:.3f} - {span[1]:.3f}", flush=True)
+    with open(os.path.join(directory, "ranges.json"), "w") as f:
+        json.dump(ranges, f)
+    if args.export_only:
+        return
+    binary = os.path.join(ROOT, "build", "native", "subsplat_replay")
+    report = replay.replay(binary, scenes, args.runs, None, 0)
+    with open(os.path.join(directory, "report.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    command = COMMAND + (f" -- --runs {args.runs}" if args.runs != 3 else "")
+    lines = ["# Benchmarks", "", *replay.document(report, ranges, command, LEVELS, note=NOTE)]
     with open(os.path.join(ROOT, "docs", "BENCHMARKS.md"), "w") as f:
         f.write("\n".join(lines))
     print("wrote docs/BENCHMARKS.md")
+
+
+NOTE = """The paper reports 3-30x for FULL over no acceleration on an HD5870, for scenes whose scattering
+ranges are 0.04-0.35 of the bounding radius (its Table 1). The range column gives R_P (95 % of the
+energy, shortest to longest channel) over each translucent object's bounding-sphere radius.
+Without Blender, the same scene files (written to build/bench/ by this command, or with
+`--export-only`) replay on any machine where the library builds: `python3 bench/replay.py
+--ranges build/bench/ranges.json build/bench/*.ssscene` (docs/SCENE_FILE.md)."""
 
 
 main()

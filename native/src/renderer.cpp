@@ -258,15 +258,18 @@ Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& tra
     if (texel < 1e300) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
   }
   if (multires) {
-    // The coarsest splatting level keeps a pixel per R_P (the longest channel's) at the
-    // translucent objects' depth: coarser than that it could only blur what it splats.
+    // The coarsest splatting level keeps kCoarsestPixelsPerRange pixels per R_P (the longest
+    // channel's) at the translucent objects' nearest depth. It takes the profile's tail beyond
+    // R_P, a ring 0.8 R_P wide: coarser than that, upsampling blurs the ring across
+    // silhouettes and the error grows while the work hardly falls, since with eq. 14's
+    // epsilon the finest level keeps most of [0, R_P) anyway (docs/MULTIRES.md).
     const SsCameraDesc& camera = scene_.camera();
     glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
     glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
     double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
     double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
     double pixel = extent / double(height);
-    levels.splat = clampLevels(std::log2(rangeMax / pixel), maxSplat);
+    levels.splat = clampLevels(std::log2(rangeMax / (kCoarsestPixelsPerRange * pixel)), maxSplat);
   }
   return levels;
 }

@@ -15,6 +15,8 @@ class Renderer {
   static constexpr int kDefaultLevels = 0;  // automatic
   static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f, kDefaultEpsilon = 0.001f;
   static constexpr float kDefaultLambda = 8.0f;
+  // Automatic levels: pixels per R_P the coarsest splatting level keeps (chooseLevels).
+  static constexpr double kCoarsestPixelsPerRange = 8.0;
   Renderer();
   Scene& scene() { return scene_; }
   const Scene& scene() const { return scene_; }

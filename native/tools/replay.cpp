@@ -5,7 +5,7 @@
 // and relative RMSE against REFERENCE. Prints a table; --json writes the
 // figures for bench/replay.py, --images writes PFM images.
 //
-//   subsplat_replay [options] SCENE.ssscene...
+//   subsplat_replay [options] SCENE.ssscene...  (subsplat_replay --help)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,13 +27,28 @@ namespace {
 const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"};
 const char* const kStageNames[] = {"buffers", "splatting", "shading", "readback"};
 
+// A method, optionally with its own level count ("FULL:0": FULL with automatic levels).
+struct Variant {
+  int method = 0;
+  int levels = -1;  // -1: --levels, else as saved
+  std::string label;
+};
+
+Variant variant(int method, int levels = -1) {
+  std::string label = kMethodNames[method];
+  if (levels >= 0) label += ":" + std::to_string(levels);
+  return {method, levels, label};
+}
+
 struct Options {
   std::vector<std::string> scenes;
-  std::vector<int> methods{SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL};
+  std::vector<Variant> methods{variant(SS_METHOD_BRUTE), variant(SS_METHOD_MULTIRES), variant(SS_METHOD_ADAPTIVE),
+                               variant(SS_METHOD_FULL)};
   int runs = 3;
   int width = 0, height = 0;  // 0: the frame size saved in the file
   int levels = -1;            // -1: as saved
   int irradianceResolution = 0;
+  float epsilon = 0.0f, alpha = 0.0f;  // 0: as saved
   uint32_t referenceSamples = 0;
   bool reference = true;
   std::string json, images;
@@ -43,15 +58,18 @@ struct Options {
   if (!problem.empty()) std::fprintf(stderr, "subsplat_replay: %s\n\n", problem.c_str());
   std::fprintf(stderr,
                "usage: subsplat_replay [options] SCENE.ssscene...\n"
-               "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four)\n"
+               "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four);\n"
+               "                          METHOD:N gives that entry N levels (FULL:0: FULL with automatic levels)\n"
                "  --runs N                renders per method, round-robin (default 3)\n"
                "  --size WxH              frame size (default: the size saved with the scene)\n"
                "  --levels N              0 automatic, 1-8 forced (default: as saved)\n"
                "  --irradiance N          irradiance buffer resolution (default: as saved)\n"
+               "  --epsilon E, --alpha A  eq. 14's epsilon and eq. 11's alpha (default: as saved)\n"
                "  --no-reference          skip REFERENCE and the error columns\n"
                "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
                "  --json FILE             write every figure as JSON\n"
-               "  --images DIR            write each method's image as DIR/<scene>_<method>.pfm\n");
+               "  --images DIR            write each method's image and exitance pass as\n"
+               "                          DIR/<scene>_<method>.pfm and DIR/<scene>_<method>_exitance.pfm\n");
   std::exit(2);
 }
 
@@ -73,11 +91,15 @@ Options parse(int argc, char** argv) {
     if (a == "--methods") {
       o.methods.clear();
       std::stringstream list(value());
-      for (std::string name; std::getline(list, name, ',');) {
+      for (std::string entry; std::getline(list, entry, ',');) {
+        std::string name = entry.substr(0, entry.find(':'));
         auto it = std::find_if(std::begin(kMethodNames), std::end(kMethodNames) - 1,
                                [&](const char* m) { return name == m; });
         if (it == std::end(kMethodNames) - 1) usage("unknown method " + name);
-        o.methods.push_back(int(it - std::begin(kMethodNames)));
+        int levels = -1;
+        if (entry.find(':') != std::string::npos) levels = parseInt(entry.substr(entry.find(':') + 1), "levels");
+        if (levels > 8) usage("levels of " + entry + " must be in [0, 8]");
+        o.methods.push_back(variant(int(it - std::begin(kMethodNames)), levels));
       }
     } else if (a == "--runs") {
       o.runs = std::max(1, parseInt(value(), "run count"));
@@ -91,6 +113,12 @@ Options parse(int argc, char** argv) {
       o.levels = parseInt(value(), "levels");
     } else if (a == "--irradiance") {
       o.irradianceResolution = parseInt(value(), "irradiance resolution");
+    } else if (a == "--epsilon" || a == "--alpha") {
+      std::string text = value();
+      char* end = nullptr;
+      float v = std::strtof(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !(v > 0.0f)) usage("bad " + a + ": " + text);
+      (a == "--epsilon" ? o.epsilon : o.alpha) = v;
     } else if (a == "--no-reference") {
       o.reference = false;
     } else if (a == "--reference-samples") {
@@ -149,15 +177,21 @@ Errors compare(const Image& image, const Image& reference) {
   return errors;
 }
 
-void writePfm(const std::string& path, const Image& image) {
+void writePfm(const std::string& path, int width, int height, const std::vector<float>& rgba) {
   std::ofstream out(path, std::ios::binary);
-  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";  // little-endian, bottom row first
-  for (size_t i = 0; i < image.rgba.size(); i += 4) out.write(reinterpret_cast<const char*>(&image.rgba[i]), 12);
+  out << "PF\n" << width << " " << height << "\n-1.0\n";  // little-endian, bottom row first
+  for (size_t i = 0; i < rgba.size(); i += 4) out.write(reinterpret_cast<const char*>(&rgba[i]), 12);
   if (!out) throw Failure{"cannot write " + path};
 }
 
+// The image and its exitance pass (B of eq. 5) as <stem>.pfm and <stem>_exitance.pfm.
+void writeImages(const std::string& stem, const Image& image) {
+  writePfm(stem + ".pfm", image.width, image.height, image.rgba);
+  writePfm(stem + "_exitance.pfm", image.width, image.height, image.exitance);
+}
+
 struct Result {
-  int method = 0;
+  Variant variant;
   std::vector<SsStats> runs;
   SsStats fastest{};
   double medianMs = 0.0;
@@ -209,33 +243,38 @@ int main(int argc, char** argv) {
       // The settings as saved, with the command line's overrides.
       SsSettings saved{};
       check(ssGetSettings(context, &saved), "ssGetSettings");
-      auto settingsFor = [&](int method) {
+      auto settingsFor = [&](int method, int levels = -1) {
         SsSettings settings = saved;
         settings.method = method;
+        if (levels >= 0) settings.levels = levels;
         if (options.irradianceResolution > 0) settings.irradiance_resolution = options.irradianceResolution;
-        if (options.levels >= 0) settings.levels = options.levels;
+        else if (options.levels >= 0) settings.levels = options.levels;
+        if (options.epsilon > 0.0f) settings.epsilon = options.epsilon;
+        if (options.alpha > 0.0f) settings.alpha = options.alpha;
         if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
         return settings;
       };
-      std::map<int, Result> results;
-      std::map<int, Image> images;
+      std::vector<Result> results(options.methods.size());
+      std::vector<Image> images(options.methods.size());
       for (int run = 0; run < options.runs; ++run) {
-        for (int method : options.methods) {
-          SsSettings settings = settingsFor(method);
+        for (size_t v = 0; v < options.methods.size(); ++v) {
+          const Variant& entry = options.methods[v];
+          int method = entry.method;
+          SsSettings settings = settingsFor(method, entry.levels);
           check(ssSetSettings(context, &settings), "settings");
-          Image& image = images[method];
+          Image& image = images[v];
           image.width = width, image.height = height;
           image.rgba.resize(size_t(width) * height * 4);
-          check(ssRender(context, width, height, image.rgba.data()), std::string("rendering ") + kMethodNames[method]);
+          check(ssRender(context, width, height, image.rgba.data()), "rendering " + entry.label);
           SsStats stats{};
           check(ssGetStats(context, &stats), "stats");
-          results[method].method = method;
-          results[method].runs.push_back(stats);
+          results[v].variant = entry;
+          results[v].runs.push_back(stats);
           if (run == 0) {
             image.exitance.resize(image.rgba.size());
             check(ssGetPass(context, SS_PASS_EXITANCE, width, height, image.exitance.data()), "exitance pass");
           }
-          std::printf("%s %s run %d: %.0f ms\n", baseName(path).c_str(), kMethodNames[method], run + 1,
+          std::printf("%s %s run %d: %.0f ms\n", baseName(path).c_str(), entry.label.c_str(), run + 1,
                       stats.frame_ms);
           std::fflush(stdout);
         }
@@ -253,9 +292,10 @@ int main(int argc, char** argv) {
         check(ssGetStats(context, &stats), "stats");
         std::printf("%s REFERENCE: %.0f ms, %llu samples\n", baseName(path).c_str(), stats.frame_ms,
                     (unsigned long long)stats.splat_count);
-        if (!options.images.empty()) writePfm(options.images + "/" + baseName(path) + "_REFERENCE.pfm", reference);
+        if (!options.images.empty()) writeImages(options.images + "/" + baseName(path) + "_REFERENCE", reference);
       }
-      for (auto& [method, result] : results) {
+      for (size_t v = 0; v < results.size(); ++v) {
+        Result& result = results[v];
         std::vector<double> ms;
         for (const SsStats& st : result.runs) ms.push_back(st.frame_ms);
         std::sort(ms.begin(), ms.end());
@@ -263,20 +303,22 @@ int main(int argc, char** argv) {
         result.fastest = *std::min_element(result.runs.begin(), result.runs.end(),
                                            [](const SsStats& a, const SsStats& b) { return a.frame_ms < b.frame_ms; });
         if (options.reference) {
-          result.errors = compare(images[method], reference);
+          result.errors = compare(images[v], reference);
           result.hasErrors = true;
         }
         if (!options.images.empty())
-          writePfm(options.images + "/" + baseName(path) + "_" + kMethodNames[method] + ".pfm", images[method]);
+          writeImages(options.images + "/" + baseName(path) + "_" + result.variant.label, images[v]);
       }
 
-      const Result* base = results.count(SS_METHOD_BRUTE) ? &results[SS_METHOD_BRUTE] : nullptr;
+      const Result* base = nullptr;
+      for (const Result& r : results)
+        if (r.variant.method == SS_METHOD_BRUTE && !base) base = &r;
       std::printf("\n%s (%dx%d)\n%-9s %7s %10s %8s %10s %8s %9s  %s\n", baseName(path).c_str(), width, height, "method",
                   "levels", "median ms", "speed-up", "fragments", "ratio", "rel RMSE", "splatting ms: levels | accumulation");
       json << (s ? ", " : "") << "{\"scene\": \"" << jsonEscape(baseName(path)) << "\", \"width\": " << width
            << ", \"height\": " << height << ", \"methods\": [";
       bool first = true;
-      for (const auto& [method, r] : results) {
+      for (const Result& r : results) {
         const SsStats& st = r.fastest;
         uint64_t fragments = 0;
         for (uint64_t f : st.fragment_invocations) fragments += f;
@@ -287,11 +329,11 @@ int main(int argc, char** argv) {
         std::string perLevel;
         for (int k = 0; k < st.splat_levels; ++k) perLevel += (k ? " " : "") + std::to_string(int(st.splat_level_ms[k] + 0.5));
         perLevel += " | " + std::to_string(int(st.accumulation_ms + 0.5));
-        std::printf("%-9s %7s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", kMethodNames[method], levels.c_str(), r.medianMs,
+        std::printf("%-10s %6s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", r.variant.label.c_str(), levels.c_str(), r.medianMs,
                     base ? base->medianMs / r.medianMs : 0.0, fragments / 1e6,
                     base ? double(baseFragments) / std::max<uint64_t>(fragments, 1) : 0.0,
                     r.hasErrors ? std::to_string(r.errors.radiance).substr(0, 7).c_str() : "-", perLevel.c_str());
-        json << (first ? "" : ", ") << "{\"method\": \"" << kMethodNames[method] << "\", \"median_frame_ms\": " << r.medianMs
+        json << (first ? "" : ", ") << "{\"method\": \"" << r.variant.label << "\", \"median_frame_ms\": " << r.medianMs
              << ", \"frame_ms\": [";
         for (size_t i = 0; i < r.runs.size(); ++i) json << (i ? ", " : "") << r.runs[i].frame_ms;
         json << "], \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels << ", \"stage_ms\": {";
@@ -306,7 +348,8 @@ int main(int argc, char** argv) {
         json << "], \"accumulation_ms\": " << st.accumulation_ms << ", \"accumulation_fragments\": " << st.accumulation_fragments
              << ", \"splat_count\": " << st.splat_count;
         if (r.hasErrors)
-          json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance;
+          json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance
+               << ", \"compared_pixels\": " << r.errors.pixels;
         json << "}";
         first = false;
       }

