@@ -27,17 +27,19 @@ namespace {
 const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"};
 const char* const kStageNames[] = {"buffers", "splatting", "shading", "readback"};
 
-// A method, optionally with its own level count ("FULL:0": FULL with automatic levels).
+// A method, optionally with its own level count and epsilon: "FULL:0" is FULL with
+// automatic levels, "FULL:3@0.01" FULL with 3 levels and epsilon 0.01.
 struct Variant {
   int method = 0;
-  int levels = -1;  // -1: --levels, else as saved
+  int levels = -1;        // -1: --levels, else as saved
+  float epsilon = 0.0f;   // 0: --epsilon, else as saved
   std::string label;
 };
 
 Variant variant(int method, int levels = -1) {
   std::string label = kMethodNames[method];
   if (levels >= 0) label += ":" + std::to_string(levels);
-  return {method, levels, label};
+  return {method, levels, 0.0f, label};
 }
 
 struct Options {
@@ -59,7 +61,8 @@ struct Options {
   std::fprintf(stderr,
                "usage: subsplat_replay [options] SCENE.ssscene...\n"
                "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four);\n"
-               "                          METHOD:N gives that entry N levels (FULL:0: FULL with automatic levels)\n"
+               "                          METHOD:N gives that entry N levels (FULL:0: FULL with automatic levels),\n"
+               "                          METHOD[:N]@E epsilon E (FULL:3@0.01)\n"
                "  --runs N                renders per method, round-robin (default 3)\n"
                "  --size WxH              frame size (default: the size saved with the scene)\n"
                "  --levels N              0 automatic, 1-8 forced (default: as saved)\n"
@@ -92,14 +95,24 @@ Options parse(int argc, char** argv) {
       o.methods.clear();
       std::stringstream list(value());
       for (std::string entry; std::getline(list, entry, ',');) {
-        std::string name = entry.substr(0, entry.find(':'));
+        size_t at = entry.find('@');
+        std::string head = entry.substr(0, at);
+        std::string name = head.substr(0, head.find(':'));
         auto it = std::find_if(std::begin(kMethodNames), std::end(kMethodNames) - 1,
                                [&](const char* m) { return name == m; });
         if (it == std::end(kMethodNames) - 1) usage("unknown method " + name);
         int levels = -1;
-        if (entry.find(':') != std::string::npos) levels = parseInt(entry.substr(entry.find(':') + 1), "levels");
+        if (head.find(':') != std::string::npos) levels = parseInt(head.substr(head.find(':') + 1), "levels");
         if (levels > 8) usage("levels of " + entry + " must be in [0, 8]");
-        o.methods.push_back(variant(int(it - std::begin(kMethodNames)), levels));
+        Variant v = variant(int(it - std::begin(kMethodNames)), levels);
+        if (at != std::string::npos) {
+          std::string text = entry.substr(at + 1);
+          char* end = nullptr;
+          v.epsilon = std::strtof(text.c_str(), &end);
+          if (text.empty() || *end != '\0' || !(v.epsilon > 0.0f)) usage("bad epsilon in " + entry);
+          v.label = entry;
+        }
+        o.methods.push_back(v);
       }
     } else if (a == "--runs") {
       o.runs = std::max(1, parseInt(value(), "run count"));
@@ -220,6 +233,161 @@ std::string jsonEscape(const std::string& s) {
   return out;
 }
 
+// The saved settings with the command line's and the entry's overrides.
+SsSettings settingsFor(const SsSettings& saved, const Options& options, const Variant& entry) {
+  SsSettings settings = saved;
+  settings.method = entry.method;
+  if (entry.levels >= 0)
+    settings.levels = entry.levels;
+  else if (options.levels >= 0)
+    settings.levels = options.levels;
+  if (entry.epsilon > 0.0f)
+    settings.epsilon = entry.epsilon;
+  else if (options.epsilon > 0.0f)
+    settings.epsilon = options.epsilon;
+  if (options.irradianceResolution > 0) settings.irradiance_resolution = options.irradianceResolution;
+  if (options.alpha > 0.0f) settings.alpha = options.alpha;
+  if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
+  return settings;
+}
+
+// One render with its exitance pass and stats.
+Image render(SsContext context, const SsSettings& settings, int width, int height, const std::string& label,
+             SsStats& stats) {
+  check(ssSetSettings(context, &settings), "settings of " + label);
+  Image image;
+  image.width = width, image.height = height;
+  image.rgba.resize(size_t(width) * height * 4);
+  image.exitance.resize(image.rgba.size());
+  check(ssRender(context, width, height, image.rgba.data()), "rendering " + label);
+  check(ssGetPass(context, SS_PASS_EXITANCE, width, height, image.exitance.data()), "exitance pass of " + label);
+  check(ssGetStats(context, &stats), "stats of " + label);
+  return image;
+}
+
+uint64_t totalFragments(const SsStats& stats) {
+  uint64_t total = 0;
+  for (uint64_t f : stats.fragment_invocations) total += f;
+  return total;
+}
+
+struct SceneResults {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<Result> results;
+};
+
+// Every entry `runs` times, round-robin, then REFERENCE once for the errors.
+SceneResults measure(SsContext context, const Options& options, const std::string& path) {
+  SceneResults scene;
+  scene.name = baseName(path);
+  int32_t savedWidth = 0, savedHeight = 0;
+  check(ssLoadScene(context, path.c_str(), &savedWidth, &savedHeight), "loading " + path);
+  scene.width = options.width > 0 ? options.width : savedWidth;
+  scene.height = options.height > 0 ? options.height : savedHeight;
+  if (scene.width <= 0 || scene.height <= 0) throw Failure{path + " holds no frame size: give --size"};
+  SsSettings saved{};
+  check(ssGetSettings(context, &saved), "ssGetSettings");
+  std::string stem = options.images + "/" + scene.name + "_";
+
+  scene.results.resize(options.methods.size());
+  std::vector<Image> images(options.methods.size());
+  for (int run = 0; run < options.runs; ++run) {
+    for (size_t v = 0; v < options.methods.size(); ++v) {
+      const Variant& entry = options.methods[v];
+      SsStats stats{};
+      Image image = render(context, settingsFor(saved, options, entry), scene.width, scene.height, entry.label, stats);
+      if (run == 0) images[v] = std::move(image);
+      scene.results[v].variant = entry;
+      scene.results[v].runs.push_back(stats);
+      std::printf("%s %s run %d: %.0f ms\n", scene.name.c_str(), entry.label.c_str(), run + 1, stats.frame_ms);
+      std::fflush(stdout);
+    }
+  }
+  Image reference;
+  if (options.reference) {
+    SsStats stats{};
+    reference = render(context, settingsFor(saved, options, variant(SS_METHOD_REFERENCE)), scene.width, scene.height,
+                       "REFERENCE", stats);
+    std::printf("%s REFERENCE: %.0f ms, %llu samples\n", scene.name.c_str(), stats.frame_ms,
+                static_cast<unsigned long long>(stats.splat_count));
+    if (!options.images.empty()) writeImages(stem + "REFERENCE", reference);
+  }
+  for (size_t v = 0; v < scene.results.size(); ++v) {
+    Result& result = scene.results[v];
+    std::vector<double> ms;
+    for (const SsStats& st : result.runs) ms.push_back(st.frame_ms);
+    std::sort(ms.begin(), ms.end());
+    size_t n = ms.size();
+    result.medianMs = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+    result.fastest = *std::min_element(result.runs.begin(), result.runs.end(),
+                                       [](const SsStats& a, const SsStats& b) { return a.frame_ms < b.frame_ms; });
+    if (options.reference) {
+      result.errors = compare(images[v], reference);
+      result.hasErrors = true;
+    }
+    if (!options.images.empty()) writeImages(stem + result.variant.label, images[v]);
+  }
+  return scene;
+}
+
+void printTable(const SceneResults& scene) {
+  const Result* base = nullptr;
+  for (const Result& r : scene.results)
+    if (r.variant.method == SS_METHOD_BRUTE && !base) base = &r;
+  std::printf("\n%s (%dx%d)\n%-12s %6s %10s %8s %10s %8s %9s  %s\n", scene.name.c_str(), scene.width, scene.height,
+              "method", "levels", "median ms", "speed-up", "fragments", "ratio", "rel RMSE",
+              "splatting ms: levels | accumulation");
+  for (const Result& r : scene.results) {
+    const SsStats& st = r.fastest;
+    std::string levels = std::to_string(st.levels) + "/" + std::to_string(st.splat_levels);
+    std::string perLevel;
+    for (int k = 0; k < st.splat_levels; ++k)
+      perLevel += (k ? " " : "") + std::to_string(int(st.splat_level_ms[k] + 0.5));
+    perLevel += " | " + std::to_string(int(st.accumulation_ms + 0.5));
+    char rmse[32] = "-";
+    if (r.hasErrors) std::snprintf(rmse, sizeof rmse, "%.5f", r.errors.radiance);
+    double speedUp = base ? base->medianMs / r.medianMs : 0.0;
+    double ratio = base ? double(totalFragments(base->fastest)) / double(std::max<uint64_t>(totalFragments(st), 1)) : 0.0;
+    std::printf("%-12s %6s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", r.variant.label.c_str(), levels.c_str(),
+                r.medianMs, speedUp, double(totalFragments(st)) / 1e6, ratio, rmse, perLevel.c_str());
+  }
+}
+
+template <typename T, typename F>
+void jsonList(std::ostream& out, int count, F&& value) {
+  out << "[";
+  for (int i = 0; i < count; ++i) out << (i ? ", " : "") << T(value(i));
+  out << "]";
+}
+
+void writeJson(std::ostream& json, const SceneResults& scene) {
+  json << "{\"scene\": \"" << jsonEscape(scene.name) << "\", \"width\": " << scene.width
+       << ", \"height\": " << scene.height << ", \"methods\": [";
+  for (size_t v = 0; v < scene.results.size(); ++v) {
+    const Result& r = scene.results[v];
+    const SsStats& st = r.fastest;
+    json << (v ? ", " : "") << "{\"method\": \"" << jsonEscape(r.variant.label) << "\", \"median_frame_ms\": "
+         << r.medianMs << ", \"frame_ms\": ";
+    jsonList<double>(json, int(r.runs.size()), [&](int i) { return r.runs[size_t(i)].frame_ms; });
+    json << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels << ", \"stage_ms\": {";
+    for (int k = 0; k < SS_STAGE_COUNT; ++k) json << (k ? ", " : "") << "\"" << kStageNames[k] << "\": " << st.stage_ms[k];
+    json << "}, \"fragment_invocations\": {";
+    for (int k = 0; k < SS_STAGE_COUNT; ++k) json << "\"" << kStageNames[k] << "\": " << st.fragment_invocations[k] << ", ";
+    json << "\"total\": " << totalFragments(st) << "}, \"splat_level_ms\": ";
+    jsonList<double>(json, st.splat_levels, [&](int k) { return st.splat_level_ms[k]; });
+    json << ", \"splat_level_fragments\": ";
+    jsonList<uint64_t>(json, st.splat_levels, [&](int k) { return st.splat_level_fragments[k]; });
+    json << ", \"accumulation_ms\": " << st.accumulation_ms
+         << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count;
+    if (r.hasErrors)
+      json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance
+           << ", \"compared_pixels\": " << r.errors.pixels;
+    json << "}";
+  }
+  json << "]}";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -234,126 +402,10 @@ int main(int argc, char** argv) {
     json << "{\"renderer\": \"" << jsonEscape(renderer) << "\", \"cpu\": \"" << jsonEscape(cpuName())
          << "\", \"api_version\": " << ssGetApiVersion() << ", \"runs\": " << options.runs << ", \"scenes\": [";
     for (size_t s = 0; s < options.scenes.size(); ++s) {
-      const std::string& path = options.scenes[s];
-      int32_t savedWidth = 0, savedHeight = 0;
-      check(ssLoadScene(context, path.c_str(), &savedWidth, &savedHeight), "loading " + path);
-      int width = options.width > 0 ? options.width : savedWidth;
-      int height = options.height > 0 ? options.height : savedHeight;
-      if (width <= 0 || height <= 0) throw Failure{path + " holds no frame size: give --size"};
-      // The settings as saved, with the command line's overrides.
-      SsSettings saved{};
-      check(ssGetSettings(context, &saved), "ssGetSettings");
-      auto settingsFor = [&](int method, int levels = -1) {
-        SsSettings settings = saved;
-        settings.method = method;
-        if (levels >= 0) settings.levels = levels;
-        if (options.irradianceResolution > 0) settings.irradiance_resolution = options.irradianceResolution;
-        else if (options.levels >= 0) settings.levels = options.levels;
-        if (options.epsilon > 0.0f) settings.epsilon = options.epsilon;
-        if (options.alpha > 0.0f) settings.alpha = options.alpha;
-        if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
-        return settings;
-      };
-      std::vector<Result> results(options.methods.size());
-      std::vector<Image> images(options.methods.size());
-      for (int run = 0; run < options.runs; ++run) {
-        for (size_t v = 0; v < options.methods.size(); ++v) {
-          const Variant& entry = options.methods[v];
-          int method = entry.method;
-          SsSettings settings = settingsFor(method, entry.levels);
-          check(ssSetSettings(context, &settings), "settings");
-          Image& image = images[v];
-          image.width = width, image.height = height;
-          image.rgba.resize(size_t(width) * height * 4);
-          check(ssRender(context, width, height, image.rgba.data()), "rendering " + entry.label);
-          SsStats stats{};
-          check(ssGetStats(context, &stats), "stats");
-          results[v].variant = entry;
-          results[v].runs.push_back(stats);
-          if (run == 0) {
-            image.exitance.resize(image.rgba.size());
-            check(ssGetPass(context, SS_PASS_EXITANCE, width, height, image.exitance.data()), "exitance pass");
-          }
-          std::printf("%s %s run %d: %.0f ms\n", baseName(path).c_str(), entry.label.c_str(), run + 1,
-                      stats.frame_ms);
-          std::fflush(stdout);
-        }
-      }
-      Image reference;
-      if (options.reference) {
-        SsSettings settings = settingsFor(SS_METHOD_REFERENCE);
-        check(ssSetSettings(context, &settings), "settings");
-        reference.width = width, reference.height = height;
-        reference.rgba.resize(size_t(width) * height * 4);
-        reference.exitance.resize(reference.rgba.size());
-        check(ssRender(context, width, height, reference.rgba.data()), "rendering REFERENCE");
-        check(ssGetPass(context, SS_PASS_EXITANCE, width, height, reference.exitance.data()), "exitance pass");
-        SsStats stats{};
-        check(ssGetStats(context, &stats), "stats");
-        std::printf("%s REFERENCE: %.0f ms, %llu samples\n", baseName(path).c_str(), stats.frame_ms,
-                    (unsigned long long)stats.splat_count);
-        if (!options.images.empty()) writeImages(options.images + "/" + baseName(path) + "_REFERENCE", reference);
-      }
-      for (size_t v = 0; v < results.size(); ++v) {
-        Result& result = results[v];
-        std::vector<double> ms;
-        for (const SsStats& st : result.runs) ms.push_back(st.frame_ms);
-        std::sort(ms.begin(), ms.end());
-        result.medianMs = ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
-        result.fastest = *std::min_element(result.runs.begin(), result.runs.end(),
-                                           [](const SsStats& a, const SsStats& b) { return a.frame_ms < b.frame_ms; });
-        if (options.reference) {
-          result.errors = compare(images[v], reference);
-          result.hasErrors = true;
-        }
-        if (!options.images.empty())
-          writeImages(options.images + "/" + baseName(path) + "_" + result.variant.label, images[v]);
-      }
-
-      const Result* base = nullptr;
-      for (const Result& r : results)
-        if (r.variant.method == SS_METHOD_BRUTE && !base) base = &r;
-      std::printf("\n%s (%dx%d)\n%-9s %7s %10s %8s %10s %8s %9s  %s\n", baseName(path).c_str(), width, height, "method",
-                  "levels", "median ms", "speed-up", "fragments", "ratio", "rel RMSE", "splatting ms: levels | accumulation");
-      json << (s ? ", " : "") << "{\"scene\": \"" << jsonEscape(baseName(path)) << "\", \"width\": " << width
-           << ", \"height\": " << height << ", \"methods\": [";
-      bool first = true;
-      for (const Result& r : results) {
-        const SsStats& st = r.fastest;
-        uint64_t fragments = 0;
-        for (uint64_t f : st.fragment_invocations) fragments += f;
-        uint64_t baseFragments = 0;
-        if (base)
-          for (uint64_t f : base->fastest.fragment_invocations) baseFragments += f;
-        std::string levels = std::to_string(st.levels) + "/" + std::to_string(st.splat_levels);
-        std::string perLevel;
-        for (int k = 0; k < st.splat_levels; ++k) perLevel += (k ? " " : "") + std::to_string(int(st.splat_level_ms[k] + 0.5));
-        perLevel += " | " + std::to_string(int(st.accumulation_ms + 0.5));
-        std::printf("%-10s %6s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", r.variant.label.c_str(), levels.c_str(), r.medianMs,
-                    base ? base->medianMs / r.medianMs : 0.0, fragments / 1e6,
-                    base ? double(baseFragments) / std::max<uint64_t>(fragments, 1) : 0.0,
-                    r.hasErrors ? std::to_string(r.errors.radiance).substr(0, 7).c_str() : "-", perLevel.c_str());
-        json << (first ? "" : ", ") << "{\"method\": \"" << r.variant.label << "\", \"median_frame_ms\": " << r.medianMs
-             << ", \"frame_ms\": [";
-        for (size_t i = 0; i < r.runs.size(); ++i) json << (i ? ", " : "") << r.runs[i].frame_ms;
-        json << "], \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels << ", \"stage_ms\": {";
-        for (int k = 0; k < SS_STAGE_COUNT; ++k) json << (k ? ", " : "") << "\"" << kStageNames[k] << "\": " << st.stage_ms[k];
-        json << "}, \"fragment_invocations\": {";
-        for (int k = 0; k < SS_STAGE_COUNT; ++k)
-          json << "\"" << kStageNames[k] << "\": " << st.fragment_invocations[k] << ", ";
-        json << "\"total\": " << fragments << "}, \"splat_level_ms\": [";
-        for (int k = 0; k < st.splat_levels; ++k) json << (k ? ", " : "") << st.splat_level_ms[k];
-        json << "], \"splat_level_fragments\": [";
-        for (int k = 0; k < st.splat_levels; ++k) json << (k ? ", " : "") << st.splat_level_fragments[k];
-        json << "], \"accumulation_ms\": " << st.accumulation_ms << ", \"accumulation_fragments\": " << st.accumulation_fragments
-             << ", \"splat_count\": " << st.splat_count;
-        if (r.hasErrors)
-          json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance
-               << ", \"compared_pixels\": " << r.errors.pixels;
-        json << "}";
-        first = false;
-      }
-      json << "]}";
+      SceneResults scene = measure(context, options, options.scenes[s]);
+      printTable(scene);
+      json << (s ? ", " : "");
+      writeJson(json, scene);
     }
     json << "]}\n";
     check(ssReleaseContext(context), "ssReleaseContext");

@@ -42,7 +42,8 @@ class Replay(unittest.TestCase):
         self.assertTrue(os.path.isfile(path))
 
         figures = os.path.join(out, "marble_pieces.json")
-        run = subprocess.run([REPLAY, "--methods", "BRUTE,FULL", "--runs", "1", "--reference-samples", "20000",
+        run = subprocess.run([REPLAY, "--methods", "BRUTE,FULL,MULTIRES:2@0.01", "--runs", "1",
+                              "--reference-samples", "20000",
                               "--images", out, "--json", figures, path], capture_output=True, text=True)
         print(run.stdout, run.stderr)
         self.assertEqual(run.returncode, 0, run.stderr)
@@ -62,7 +63,9 @@ class Replay(unittest.TestCase):
         (entry,) = report["scenes"]
         self.assertEqual((entry["width"], entry["height"]), combined.shape[1::-1])
         methods = {m["method"]: m for m in entry["methods"]}
-        self.assertEqual(set(methods), {"BRUTE", "FULL"})
+        self.assertEqual(set(methods), {"BRUTE", "FULL", "MULTIRES:2@0.01"})
+        self.assertEqual((methods["MULTIRES:2@0.01"]["levels"], methods["MULTIRES:2@0.01"]["splat_levels"]), (1, 2),
+                         "an entry's own level count (and epsilon) override the saved settings")
         full = methods["FULL"]
         self.assertEqual((full["levels"], full["splat_levels"]), (stats["levels"], stats["splat_levels"]))
         self.assertEqual(full["splat_count"], stats["splat_count"])
