@@ -36,7 +36,14 @@ def replay(binary, scenes, runs, levels, reference_samples, methods=METHODS):
         print(" ".join(command + scenes), flush=True)
         subprocess.run(command + scenes, check=True)
         with open(report) as f:
-            return json.load(f)
+            figures = json.load(f)
+    figures["revision"] = git_revision()  # what was measured, kept with the figures
+    return figures
+
+
+def git_revision():
+    return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                          text=True).stdout.strip() or "unknown"
 
 
 def _share(part, total):
@@ -88,8 +95,7 @@ def tables(report, ranges=None):
 
 def document(report, ranges, command, levels, title="Methods (the paper's Tables 1 and 2)", note=""):
     one, two, verdicts = tables(report, ranges)
-    revision = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                              text=True).stdout.strip() or "unknown"
+    revision = report.get("revision") or git_revision()
     levels_text = "automatic levels" if levels in (None, 0) else f"{levels} levels"
     lines = [
         f"## {title}",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace subsplat {
 namespace {
@@ -102,6 +103,25 @@ TEST(MinimalRadius, FallsWithResolutionAndVanishesWhenFine) {
   EXPECT_EQ(table.back(), 0.0f);    // 4096 pixels per R_P: everything
   std::vector<float> loose = kernel.minimalRadiusTable(0.01);
   for (size_t i = 0; i < table.size(); ++i) EXPECT_LE(loose[i], table[i] + 1e-6f) << i;
+}
+
+// With the paper's epsilon, a long profile keeps R-bar = 1 (the finest
+// splatting level takes all of R_P) until a level has some 50 pixels per R_P:
+// why multiresolution splatting gains little on wax_jade (docs/MULTIRES.md).
+TEST(MinimalRadius, LongProfileStaysWholeBelowFiftyPixelsPerRange) {
+  DipoleMaterial skimmilk;  // the wax of wax_jade
+  const double sa[3] = {0.0014, 0.0025, 0.0142}, ss[3] = {0.70, 1.22, 1.90};
+  for (int c = 0; c < 3; ++c) skimmilk.channels[c] = {sa[c], ss[c], 1.3};
+  skimmilk.mmPerUnit = 40.0;
+  std::vector<float> table = SplatKernel(skimmilk).minimalRadiusTable(0.001);
+  auto at = [&](double T) {  // the entry at or just below T
+    double u = (std::log2(T) - SplatKernel::kMinLog2T) / (SplatKernel::kMaxLog2T - SplatKernel::kMinLog2T);
+    return table[size_t(std::floor(u * (table.size() - 1)))];
+  };
+  for (double T : {8.0, 16.0, 32.0, 64.0, 128.0, 256.0}) std::printf("T %5.0f: R-bar %.3f\n", T, at(T));
+  EXPECT_EQ(at(32.0), 1.0f);
+  EXPECT_LT(at(64.0), 1.0f);
+  EXPECT_LT(at(128.0), 0.7f);
 }
 
 }  // namespace
