@@ -145,6 +145,16 @@ def run_blender(*args, timeout=600):
     return subprocess.run(blender_command(*args), capture_output=True, text=True, timeout=timeout)
 
 
+def failed_batch_render(name):
+    """Saves the current file as <name>.blend and renders frame 1 with `blender -b` as a farm would.
+    Returns (exit status, output): 1 is a reported failure; a crash is a signal (negative) or
+    128 + signal."""
+    path = os.path.join(OUTPUT, f"{name}.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    result = run_blender(path, "-E", "SUBSPLAT", "-o", os.path.join(OUTPUT, f"{name}_"), "-f", "1")
+    return result.returncode, result.stdout + result.stderr
+
+
 def run_tests(test_case_module_name="__main__"):
     import unittest
     suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[test_case_module_name])

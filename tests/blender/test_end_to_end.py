@@ -66,13 +66,8 @@ class BrokenSceneFailsCleanly(unittest.TestCase):
         camera = helpers.top_down_camera(scene, ortho_scale=4.0)
         camera.data.type = "PERSP"
         helpers.add_light(scene, "SUN", energy=3.0)
-        path = os.path.join(helpers.OUTPUT, "broken_nan_vertex.blend")
-        bpy.ops.wm.save_as_mainfile(filepath=path)
-        result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", os.path.join(helpers.OUTPUT, "broken_"),
-                                     "-f", "1")
-        output = result.stdout + result.stderr
-        # 1 is a reported failure; a crash is a signal (negative) or 128 + signal.
-        self.assertEqual(result.returncode, 1, output[-3000:])
+        status, output = helpers.failed_batch_render("broken_nan_vertex")
+        self.assertEqual(status, 1, output[-3000:])
         self.assertIn("object 'BrokenCube'", output)
         self.assertIn("non-finite position", output)
 

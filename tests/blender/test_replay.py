@@ -78,15 +78,10 @@ class Replay(unittest.TestCase):
 
     def test_unwritable_scene_file_fails_the_render_with_the_path(self):
         # As a farm would run it: the message names the path, and blender -b exits 1.
-        import bpy
         scene = accuracy.open_example("marble_pieces", 5)
         scene.subsplat.scene_file = "/nonexistent/dir/scene.ssscene"
-        path = os.path.join(helpers.OUTPUT, "unwritable_scene_file.blend")
-        bpy.ops.wm.save_as_mainfile(filepath=path)
-        result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", os.path.join(helpers.OUTPUT, "unwritable_"),
-                                     "-f", "1")
-        output = result.stdout + result.stderr
-        self.assertEqual(result.returncode, 1, output[-3000:])
+        status, output = helpers.failed_batch_render("unwritable_scene_file")
+        self.assertEqual(status, 1, output[-3000:])
         self.assertIn("cannot write /nonexistent/dir/scene.ssscene", output)
 
     def test_replay_rejects_bad_input_without_crashing(self):
