@@ -64,10 +64,11 @@ def compare(image, image_exitance, reference, reference_exitance):
     # disagreements under a specular highlight) against error spread over the surface.
     squared = ((ours - truth) ** 2).sum(axis=1)
     worst = max(1, len(squared) // 1000)
-    outlier_share = float(np.sort(squared)[-worst:].sum() / max(squared.sum(), 1e-300))
+    ordered = np.sort(squared)
+    outlier_share = float(ordered[-worst:].sum() / max(squared.sum(), 1e-300))
     # The same without that worst 0.1 %, and how many pixels are off by more than three times
     # the mean reference radiance: the surface's accuracy, and the outliers counted apart.
-    kept = np.sort(squared)[:len(squared) - worst] if len(squared) > worst else squared
+    kept = ordered[:len(squared) - worst] if len(squared) > worst else squared
     robust = math.sqrt(float(kept.mean()) / 3.0) / max(math.sqrt(float((truth ** 2).mean())), 1e-30)
     outliers = int((np.abs(ours - truth).sum(axis=1) > 3.0 * 3.0 * float(truth.mean())).sum())
     b_relative, b_psnr = _errors(image_exitance[mask][:, :3].astype(np.float64),
