@@ -108,9 +108,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         context = self._context
         for material_id, desc in frame.materials.values():
             context.set_material(material_id, desc)
-        for object_id, (name, positions, normals, triangles, materials, matrix) in enumerate(frame.meshes):
+        for object_id, (name, positions, normals, triangles, materials, matrix, uvs) in enumerate(frame.meshes):
             try:
-                context.set_mesh(object_id, positions, normals, triangles, materials, matrix)
+                context.set_mesh(object_id, positions, normals, triangles, materials, matrix, uvs)
             except native.SubsplatError as error:
                 raise native.SubsplatError(f"object '{name}': {error}") from error
         context.set_lights(frame.lights)

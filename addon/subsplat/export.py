@@ -1,4 +1,6 @@
 """Depsgraph to arrays: the evaluated (deformed) meshes, materials, lights and camera of one frame."""
+import os
+
 import bpy
 import numpy as np
 
@@ -29,8 +31,52 @@ def _principled(material):
     return next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
 
 
+# Loaded SubEdit files by (path, modification time, size, tolerance): a file is
+# read again only when it changed on disk or the tolerance changed.
+_subedit_files = {}
+
+
+def subedit_file_profiles(material):
+    """The ProfileSet of a SUBEDIT_FILE material; ExportError names the material and the file."""
+    settings = material.subsplat
+    if not settings.subedit_path:
+        raise ExportError(f"material '{material.name}': no SubEdit file is set (Material > Translucency > File)")
+    path = os.path.normpath(bpy.path.abspath(settings.subedit_path, library=material.library))
+    try:
+        status = os.stat(path)
+    except OSError:
+        raise ExportError(f"material '{material.name}': SubEdit file '{path}' does not exist") from None
+    key = (path, status.st_mtime_ns, status.st_size, settings.fit_tolerance)
+    profiles = _subedit_files.get(key)
+    if profiles is None:
+        try:
+            profiles = native.ProfileSet.load(path, settings.fit_tolerance)
+        except native.SubsplatError as error:
+            raise ExportError(f"material '{material.name}': {error}") from None
+        for old in [k for k in _subedit_files if k[0] == path]:
+            del _subedit_files[old]
+        _subedit_files[key] = profiles
+    return profiles
+
+
+def material_profiles(material):
+    """A translucent material as a ProfileSet, whatever its source (what Bake SubEdit Material writes)."""
+    settings = material.subsplat
+    if settings.source == "SUBEDIT_FILE":
+        return subedit_file_profiles(material)
+    sigma_a = np.array(settings.sigma_a, dtype=np.float32).reshape(1, 1, 3)
+    sigma_s_prime = np.array(settings.sigma_s_prime, dtype=np.float32).reshape(1, 1, 3)
+    try:
+        return native.ProfileSet.from_dipoles(sigma_a, sigma_s_prime, settings.eta, settings.fit_tolerance)
+    except native.SubsplatError as error:
+        raise ExportError(f"material '{material.name}': {error}") from None
+
+
 def material_desc(material):
-    """The native description of a Blender material (None: the default grey)."""
+    """The native description of a Blender material (None: the default grey).
+
+    A SUBEDIT desc points at a ProfileSet that the module's file cache keeps alive.
+    """
     desc = native.MaterialDesc()
     if material is None:
         desc.kind = native.MATERIAL_OPAQUE
@@ -46,6 +92,9 @@ def material_desc(material):
         desc.mm_per_unit = settings.mm_per_unit
         desc.roughness = settings.roughness
         desc.specular = settings.specular
+        if settings.source == "SUBEDIT_FILE":
+            desc.kind = native.MATERIAL_SUBEDIT
+            desc.profiles = subedit_file_profiles(material).handle
         return desc
     desc.kind = native.MATERIAL_OPAQUE
     node = _principled(material)
@@ -85,12 +134,25 @@ def mesh_arrays(mesh):
     return positions, _corner_normals(mesh), triangles.reshape(-1, 3), slots
 
 
+def corner_uvs(mesh):
+    """Per-corner UVs of the UV map used for rendering, (corners, 2); None without one."""
+    layer = next((layer for layer in mesh.uv_layers if layer.active_render), mesh.uv_layers.active)
+    if layer is None:
+        return None
+    uvs = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    layer.data.foreach_get("uv", uvs)
+    return uvs.reshape(-1, 2)
+
+
 class Frame:
     """What one frame sends to the native context."""
 
     def __init__(self):
         self.materials = {}   # name -> (material id, MaterialDesc)
-        self.meshes = []      # (object name, positions, normals, triangles, triangle materials, matrix)
+        self.mapped = set()   # names of materials whose profiles vary over the surface (need UVs)
+        self.profile_sets = []  # kept alive until the native context took them
+        # (object name, positions, normals, triangles, triangle materials, matrix, uvs or None)
+        self.meshes = []
         self.lights = []
         self.warnings = []
         self.camera = None
@@ -103,6 +165,11 @@ class Frame:
             except (KeyError, AttributeError) as error:
                 raise ExportError(f"material '{key}': cannot read its settings ({error})") from error
             self.materials[key] = (len(self.materials), desc)
+            if desc.kind == native.MATERIAL_SUBEDIT:
+                profiles = subedit_file_profiles(material)
+                self.profile_sets.append(profiles)
+                if profiles.info()["profiles"] > 1:
+                    self.mapped.add(key)
         return self.materials[key][0]
 
 
@@ -181,8 +248,14 @@ def export_frame(depsgraph, width, height):
                 [frame.material_id(None)]
             lookup = np.asarray(slot_materials, dtype=np.uint32)
             triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
+            uvs = corner_uvs(mesh)
+            if uvs is None:
+                for slot in obj.material_slots:
+                    if slot.material is not None and slot.material.name_full in frame.mapped:
+                        frame.warnings.append(f"object '{obj.name}' has no UV map: material '{slot.material.name}' "
+                                              "shows its most common profile everywhere")
             frame.meshes.append((obj.name, positions, normals, triangles, triangle_materials,
-                                 column_major(instance.matrix_world)))
+                                 column_major(instance.matrix_world), uvs))
         finally:
             obj.to_mesh_clear()
     return frame

@@ -8,13 +8,13 @@ import os
 
 import numpy as np
 
-API_VERSION = 5
+API_VERSION = 6
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
 CANCELLED = 7
 LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
-MATERIAL_OPAQUE, MATERIAL_DIPOLE = 0, 1
+MATERIAL_OPAQUE, MATERIAL_DIPOLE, MATERIAL_SUBEDIT = 0, 1, 2
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
            5: "limit exceeded", 6: "internal error", 7: "cancelled"}
@@ -55,7 +55,20 @@ class MeshDesc(ctypes.Structure):
 class MaterialDesc(ctypes.Structure):
     _fields_ = [("kind", ctypes.c_int32), ("base_color", Float3), ("sigma_a", Float3),
                 ("sigma_s_prime", Float3), ("eta", ctypes.c_float), ("mm_per_unit", ctypes.c_float),
-                ("roughness", ctypes.c_float), ("specular", ctypes.c_float)]
+                ("roughness", ctypes.c_float), ("specular", ctypes.c_float), ("profiles", ctypes.c_void_p)]
+
+
+class ProfileSetDesc(ctypes.Structure):
+    _fields_ = [("segments", ctypes.c_uint32), ("radius_mm", ctypes.c_float), ("width", ctypes.c_uint32),
+                ("height", ctypes.c_uint32), ("log_profiles", ctypes.POINTER(ctypes.c_float))]
+
+
+class ProfileSetInfo(ctypes.Structure):
+    _fields_ = [("segments", ctypes.c_uint32), ("profiles", ctypes.c_uint32), ("width", ctypes.c_uint32),
+                ("height", ctypes.c_uint32), ("radius_mm", ctypes.c_float), ("fit_error", ctypes.c_float),
+                ("max_fit_error", ctypes.c_float), ("effective_range_mm", ctypes.c_float * 2),
+                ("gpu_bytes", ctypes.c_uint64), ("source_segments", ctypes.c_uint32),
+                ("source_profiles", ctypes.c_uint32)]
 
 
 class LightDesc(ctypes.Structure):
@@ -105,7 +118,7 @@ def library():
         try:
             lib = ctypes.CDLL(path)
         except OSError as error:  # typically a missing system library
-            raise SubsplatError(f"cannot load {path}: {error} (on Debian: apt install libepoxy0 libembree3-3)")
+            raise SubsplatError(f"cannot load {path}: {error} (on Debian: apt install libepoxy0 libembree3-3 libopenimageio2.4)")
         lib.ssGetApiVersion.restype = ctypes.c_int32
         lib.ssGetLastError.restype = ctypes.c_char_p
         handle = ctypes.c_void_p
@@ -127,6 +140,14 @@ def library():
             "ssGetSettings": [handle, ctypes.POINTER(Settings)],
             "ssSaveScene": [handle, ctypes.c_char_p],
             "ssLoadScene": [handle, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_int32)],
+            "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
+            "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
+                                           ctypes.POINTER(ctypes.c_float), ctypes.c_float, ctypes.c_float,
+                                           ctypes.POINTER(handle)],
+            "ssLoadProfileSet": [ctypes.c_char_p, ctypes.c_float, ctypes.POINTER(handle)],
+            "ssSaveProfileSet": [handle, ctypes.c_char_p],
+            "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
+            "ssReleaseProfileSet": [handle],
         }
         for name, args in signatures.items():
             function = getattr(lib, name)
@@ -158,6 +179,77 @@ def profile_info(material):
     info = ProfileInfo()
     _check(library().ssGetProfileInfo(ctypes.byref(material), ctypes.byref(info)))
     return info
+
+
+class ProfileSet:
+    """A heterogeneous material's SubEdit profiles and their UV map (docs/HETEROGENEOUS.md); no GL needed.
+
+    Materials keep their own reference, so a set may be dropped after Context.set_material.
+    tolerance: the mean relative energy error the model may make (0: the library's default, 1 %).
+    """
+
+    def __init__(self, handle):
+        self._handle = handle
+
+    @classmethod
+    def load(cls, path, tolerance=0.0):
+        """A SubEdit file (OpenEXR, docs/SUBEDIT_FILE.md)."""
+        handle = ctypes.c_void_p()
+        _check(library().ssLoadProfileSet(os.fsencode(path), tolerance, ctypes.byref(handle)))
+        return cls(handle)
+
+    @classmethod
+    def from_dipoles(cls, sigma_a, sigma_s_prime, eta, tolerance=0.0):
+        """sigma_a, sigma_s_prime: per mm, shape (height, width, 3), row 0 at v = 0."""
+        sigma_a = np.ascontiguousarray(sigma_a, dtype=np.float32)
+        sigma_s_prime = np.ascontiguousarray(sigma_s_prime, dtype=np.float32)
+        if sigma_a.ndim != 3 or sigma_a.shape[2] != 3 or sigma_a.shape != sigma_s_prime.shape:
+            raise SubsplatError(f"dipole maps must both be (height, width, 3), got {sigma_a.shape} and "
+                                f"{sigma_s_prime.shape}")
+        handle = ctypes.c_void_p()
+        _check(library().ssNewProfileSetFromDipoles(sigma_a.shape[1], sigma_a.shape[0], _floats(sigma_a),
+                                                    _floats(sigma_s_prime), eta, tolerance, ctypes.byref(handle)))
+        return cls(handle)
+
+    @classmethod
+    def from_profiles(cls, log_profiles, radius_mm, tolerance=0.0):
+        """log_profiles: ln P (1/mm^2) at n + 1 knots on [0, radius_mm], shape (height, width, n + 1, 3)."""
+        log_profiles = np.ascontiguousarray(log_profiles, dtype=np.float32)
+        if log_profiles.ndim != 4 or log_profiles.shape[3] != 3 or log_profiles.shape[2] < 2:
+            raise SubsplatError(f"profiles must be (height, width, knots, 3), got {log_profiles.shape}")
+        desc = ProfileSetDesc(log_profiles.shape[2] - 1, radius_mm, log_profiles.shape[1], log_profiles.shape[0],
+                              _floats(log_profiles))
+        handle = ctypes.c_void_p()
+        _check(library().ssNewProfileSet(ctypes.byref(desc), tolerance, ctypes.byref(handle)))
+        return cls(handle)
+
+    @property
+    def handle(self):
+        return self._handle.value
+
+    def save(self, path):
+        """Writes a SubEdit file, one texel per map texel."""
+        _check(library().ssSaveProfileSet(self._handle, os.fsencode(path)))
+
+    def info(self):
+        i = ProfileSetInfo()
+        _check(library().ssGetProfileSetInfo(self._handle, ctypes.byref(i)))
+        return {"segments": i.segments, "profiles": i.profiles, "width": i.width, "height": i.height,
+                "radius_mm": i.radius_mm, "fit_error": i.fit_error, "max_fit_error": i.max_fit_error,
+                "effective_range_mm": (i.effective_range_mm[0], i.effective_range_mm[1]),
+                "gpu_bytes": int(i.gpu_bytes), "source_segments": i.source_segments,
+                "source_profiles": i.source_profiles}
+
+    def release(self):
+        if self._handle:
+            library().ssReleaseProfileSet(self._handle)
+            self._handle = ctypes.c_void_p()
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # interpreter shutdown: the library may be gone
+            pass
 
 
 class Context:

@@ -90,7 +90,18 @@ class SubsplatMaterialSettings(bpy.types.PropertyGroup):
     enabled: BoolProperty(name="Translucent", default=False,
                           description="Render this material with subsurface scattering")
     source: EnumProperty(name="Source", default="DIPOLE", items=[
-        ("DIPOLE", "Dipole", "Homogeneous material from absorption and reduced scattering coefficients")])
+        ("DIPOLE", "Dipole", "Homogeneous material from absorption and reduced scattering coefficients"),
+        ("SUBEDIT_FILE", "SubEdit File",
+         "Heterogeneous material: a scattering profile per texel, mapped by the UV map used for rendering, "
+         "from a SubEdit file (OpenEXR; docs/SUBEDIT_FILE.md)")])
+    subedit_path: StringProperty(
+        name="File", default="", subtype="FILE_PATH",
+        description="SubEdit material file (OpenEXR with channels P0.R ... Pn.B holding ln P per texel); "
+                    "relative paths ('//') start at the .blend file")
+    fit_tolerance: FloatProperty(
+        name="Fit Tolerance", default=0.01, min=1e-6, max=1.0, soft_min=1e-4, soft_max=0.1, precision=4, step=0.01,
+        description="Largest mean energy error the material's model may make against its source: fewer "
+                    "segments and profiles when larger (faster to set up, less GPU memory)")
     preset: EnumProperty(name="Preset", items=PRESET_ITEMS, default="MARBLE", update=_apply_preset,
                          description="Measured scattering coefficients")
     sigma_a: FloatVectorProperty(name="Absorption", size=3, min=0.0, max=1e4, precision=4, step=0.01,

@@ -58,9 +58,13 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
         settings = context.material.subsplat
         layout.active = settings.enabled
         layout.prop(settings, "source")
-        layout.prop(settings, "preset")
-        layout.prop(settings, "sigma_a")
-        layout.prop(settings, "sigma_s_prime")
+        if settings.source == "SUBEDIT_FILE":
+            layout.prop(settings, "subedit_path")
+            layout.prop(settings, "fit_tolerance")
+        else:
+            layout.prop(settings, "preset")
+            layout.prop(settings, "sigma_a")
+            layout.prop(settings, "sigma_s_prime")
         layout.prop(settings, "eta")
         layout.prop(settings, "mm_per_unit")
         layout.prop(settings, "roughness")
@@ -69,13 +73,41 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
             return
         try:
             info = native.profile_info(export.material_desc(context.material))
-        except native.SubsplatError as error:
-            layout.label(text=str(error), icon="ERROR")
+            profiles = export.subedit_file_profiles(context.material).info() \
+                if settings.source == "SUBEDIT_FILE" else None
+        except (native.SubsplatError, export.ExportError) as error:
+            for line in _wrap(str(error)):
+                layout.label(text=line, icon="ERROR")
             return
         col = layout.column(align=True)
+        if profiles is not None:
+            unit = settings.mm_per_unit
+            col.label(text=f"Model: {profiles['profiles']} profile(s) of {profiles['segments']} segments "
+                           f"(file: {profiles['source_profiles']} of {profiles['source_segments']})")
+            col.label(text=f"Map: {profiles['width']} x {profiles['height']} texels, "
+                           f"GPU memory {profiles['gpu_bytes'] / 2 ** 20:.1f} MiB")
+            icon = "ERROR" if profiles["fit_error"] > settings.fit_tolerance else "NONE"
+            col.label(text=f"Fit error: {100 * profiles['fit_error']:.2f} % mean, "
+                           f"{100 * profiles['max_fit_error']:.2f} % largest", icon=icon)
+            shortest, longest = profiles["effective_range_mm"]
+            col.label(text=f"Scattering range (95%): {shortest / unit:.4g} to {longest / unit:.4g} units")
+            col.label(text="Most common profile:")
         col.label(text="Total reflectance: " + ", ".join(f"{v:.3f}" for v in info.total_reflectance))
         col.label(text="Scattering range (95%): " + ", ".join(f"{v:.4g}" for v in info.effective_range) + " units")
         col.label(text=f"Splat radius: {info.support_radius:.4g} units")
+        layout.operator("subsplat.bake_subedit", icon="EXPORT")
+
+
+def _wrap(text, width=60):
+    """Long messages as lines a panel can show."""
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    return lines + ([line] if line else [])
 
 
 CLASSES = (SUBSPLAT_PT_render, SUBSPLAT_PT_material)

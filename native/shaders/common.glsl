@@ -1,15 +1,29 @@
 // Shared by every subsplat shader (prepended after #version).
 const float PI = 3.14159265358979;
 
-// One entry per material (scene.cpp: MaterialGpu).
+// One entry per opaque or homogeneous material and per palette entry of a
+// heterogeneous one (scene.h: MaterialEntry, MaterialGpu).
 struct Material {
-  vec4 baseColorKind;  // rgb diffuse albedo (opaque), w: 0 opaque, 1 dipole
+  vec4 baseColorKind;  // rgb diffuse albedo (opaque), w: 0 opaque, 1 translucent
   vec4 optics;         // eta, roughness, specular, kernel layer
   vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), 0
+  uvec4 profileMap;    // heterogeneous: offset into profileMaps, width, height (0: none); the material's first entry
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
 
 bool isTranslucent(int m) { return m >= 0 && materials[m].baseColorKind.w > 0.5; }
+
+// The entry of a surface point of material m (its first entry) at texture
+// coordinate uv: the nearest texel of the material's profile map, repeating.
+uniform usamplerBuffer profileMaps;
+int profileEntry(int m, vec2 uv, bool hasUv) {
+  if (m < 0) return m;
+  uvec4 map = materials[m].profileMap;
+  if (map.y == 0u || !hasUv) return m;
+  ivec2 size = ivec2(map.yz);
+  ivec2 t = clamp(ivec2(floor(fract(uv) * vec2(size))), ivec2(0), size - 1);
+  return m + int(texelFetch(profileMaps, int(map.x) + t.y * size.x + t.x).r);
+}
 
 // Unpolarised Fresnel transmittance into a dielectric of relative index eta.
 float fresnelTransmittance(float eta, float cosTheta) {

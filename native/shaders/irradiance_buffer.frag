@@ -3,7 +3,9 @@
 // deviation of its Gaussian footprint (material/splat_kernel.h).
 in vec3 worldPosition;
 in vec3 worldNormal;
+in vec2 surfaceUv;
 uniform usamplerBuffer triangleMaterials;
+uniform int meshHasUvs;
 uniform float objectIndex;
 uniform int resolution;
 uniform float orthoTexelArea;   // sun: texel area perpendicular to the light
@@ -14,7 +16,7 @@ layout(location = 1) out vec4 fluxFootprint;     // rgb flux (W), footprint sigm
 layout(location = 2) out vec4 normalObject;      // xyz, object index
 layout(location = 3) out float lightDepth;       // distance along the light's rays
 void main() {
-  int material = int(texelFetch(triangleMaterials, gl_PrimitiveID).r);
+  int material = profileEntry(int(texelFetch(triangleMaterials, gl_PrimitiveID).r), surfaceUv, meshHasUvs != 0);
   vec3 L = towardsLight(worldPosition);
   vec3 geometric = normalize(cross(dFdx(worldPosition), dFdy(worldPosition)));
   vec3 n = normalize(worldNormal);

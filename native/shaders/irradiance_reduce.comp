@@ -3,7 +3,10 @@
 // normal average, the footprint doubles, and the depth range is the min/max
 // of the children (Nichols et al.). A coarse texel whose children are not all
 // the same translucent material of the same object is marked mixed (-3):
-// adaptive selection never picks it, so it descends to its children.
+// adaptive selection never picks it, so it descends to its children. Children
+// of one heterogeneous material with different profiles are not mixed (the
+// paper's mipmapped texture coordinates): the coarse texel takes the first
+// child's profile, and eq. 11 checks it against that profile's range.
 layout(local_size_x = 8, local_size_y = 8) in;
 uniform sampler2D finePositionMaterial;
 uniform sampler2D fineFluxFootprint;
@@ -33,7 +36,8 @@ void main() {
     if (i == 0) {
       material = pm.w;
       object = no.w;
-    } else if (pm.w != material || no.w != object) {
+    } else if (no.w != object || (pm.w != material && (pm.w < 0.0 || material < 0.0 ||
+               materials[int(pm.w)].profileMap.w != materials[int(material)].profileMap.w))) {
       same = false;
     }
     position += pm.xyz;

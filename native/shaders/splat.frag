@@ -1,6 +1,7 @@
-// Eq. 12 for a homogeneous material: B(x_o) += K(|x_o - x_i|, a) E(x_i) dA(x_i),
-// with K the dipole convolved with the texel's Gaussian footprint
-// (material/splat_kernel.h).
+// Eq. 12: B(x_o) += K(|x_o - x_i|, a) E(x_i) dA(x_i), with K the profile
+// convolved with the texel's Gaussian footprint (material/splat_kernel.h).
+// Where x_i and x_o have different profiles (heterogeneous materials, eq. 8),
+// K = sqrt(K_i K_o), each footprint-averaged on its own.
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
 flat in float splatFootprint;
@@ -10,9 +11,12 @@ flat in float splatKernelRow;
 flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
 uniform int splatLevel;
 uniform sampler2D splattingPositionObject;
+uniform sampler2D splattingNormalMaterial;
+uniform int pairProfiles;       // non-zero when some object has several translucent profiles
 uniform sampler2DArray splatKernels;
 uniform vec2 kernelTableSize;   // (distance samples, footprint samples)
 uniform float footprintReach;   // x sigma
+uniform vec2 kernelLog2Range;   // table rows: log2(sigma / support) at first and last
 layout(location = 0) out vec4 exitance;
 void main() {
   vec4 po = texelFetch(splattingPositionObject, ivec2(gl_FragCoord.xy), splatLevel);
@@ -26,5 +30,18 @@ void main() {
   vec2 uv = (vec2(t, splatKernelRow) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
   float layer = materials[splatMaterial].optics.w;
   vec3 kernel = texture(splatKernels, vec3(uv, layer)).rgb;
+  if (pairProfiles != 0) {
+    int mo = int(texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).w);
+    if (mo != splatMaterial) {
+      if (!isTranslucent(mo)) discard;
+      float supportO = materials[mo].ranges.x;
+      float reachO = footprintReach * splatFootprint + supportO;
+      if (d >= reachO) discard;
+      float rowO = clamp((log2(splatFootprint / supportO) - kernelLog2Range.x) / (kernelLog2Range.y - kernelLog2Range.x),
+                         0.0, 1.0);
+      vec2 uvO = (vec2(sqrt(d / reachO), rowO) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
+      kernel = sqrt(kernel * texture(splatKernels, vec3(uvO, materials[mo].optics.w)).rgb);
+    }
+  }
   exitance = vec4(splatFlux * kernel, 0.0);
 }

@@ -1,7 +1,9 @@
 // Buffer generation, camera side: the surface point x_o behind each pixel.
 in vec3 worldPosition;
 in vec3 worldNormal;
+in vec2 surfaceUv;
 uniform usamplerBuffer triangleMaterials;
+uniform int meshHasUvs;
 uniform float objectIndex;
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
@@ -9,7 +11,7 @@ uniform int orthographic;
 layout(location = 0) out vec4 positionObject;  // xyz, object index (-1 none)
 layout(location = 1) out vec4 normalMaterial;  // xyz facing the camera, material
 void main() {
-  int material = int(texelFetch(triangleMaterials, gl_PrimitiveID).r);
+  int material = profileEntry(int(texelFetch(triangleMaterials, gl_PrimitiveID).r), surfaceUv, meshHasUvs != 0);
   vec3 n = normalize(worldNormal);
   vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - worldPosition);
   if (dot(n, V) < 0.0) n = -n;

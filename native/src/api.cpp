@@ -5,10 +5,13 @@
 #include <dlfcn.h>
 
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <new>
 #include <string>
 #include <utility>
 
+#include "material/profile_set.h"
 #include "material/splat_kernel.h"
 #include "renderer.h"
 #include "scene_file.h"
@@ -19,6 +22,12 @@ struct SsContext_ {
   static constexpr uint64_t kMagic = 0x5355425350'4c4154ull;
   uint64_t magic = kMagic;
   subsplat::Renderer renderer;
+};
+
+struct SsProfileSet_ {
+  static constexpr uint64_t kMagic = 0x5353'50524f46'494cull;
+  uint64_t magic = kMagic;
+  std::shared_ptr<const subsplat::ProfileSet> set;
 };
 
 namespace {
@@ -72,6 +81,26 @@ void requireGlContext() {
   if (glGetString(GL_VERSION) == nullptr) subsplat::fail(SS_GL_ERROR, "no OpenGL context is current");
 }
 
+std::shared_ptr<const subsplat::ProfileSet> profileSet(SsProfileSet handle, const std::string& what) {
+  if (handle == nullptr) subsplat::fail(SS_INVALID_HANDLE, what + " is NULL");
+  if (handle->magic != SsProfileSet_::kMagic)
+    subsplat::fail(SS_INVALID_HANDLE, what + " is not a live subsplat profile set");
+  return handle->set;
+}
+
+double tolerance(float value) {
+  if (value == 0.0f) return subsplat::ProfileSet::kDefaultTolerance;
+  return value;  // checked by the profile set
+}
+
+void newProfileSet(SsProfileSet* out, const std::function<subsplat::ProfileSet()>& make) {
+  if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
+  *out = nullptr;
+  auto handle = std::make_unique<SsProfileSet_>();
+  handle->set = std::make_shared<const subsplat::ProfileSet>(make());
+  *out = handle.release();
+}
+
 template <typename T>
 const T& deref(const T* p, const char* what) {
   if (p == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, std::string(what) + " is NULL");
@@ -105,7 +134,14 @@ SsStatus ssReleaseContext(SsContext context) {
 
 SsStatus ssSetMaterial(SsContext context, uint32_t id, const SsMaterialDesc* material) {
   return guarded("ssSetMaterial", [&] {
-    renderer(context).scene().setMaterial(id, deref(material, "material"));
+    const SsMaterialDesc& m = deref(material, "material");
+    subsplat::Scene& scene = renderer(context).scene();
+    if (m.kind == SS_MATERIAL_SUBEDIT) {
+      subsplat::validateMaterial(m);
+      scene.setMaterial(id, m, profileSet(m.profiles, "material " + std::to_string(id) + ": profiles"));
+    } else {
+      scene.setMaterial(id, m);
+    }
   });
 }
 
@@ -195,18 +231,102 @@ SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out) {
     const SsMaterialDesc& m = deref(material, "material");
     if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
     subsplat::validateMaterial(m);
-    if (m.kind != SS_MATERIAL_DIPOLE) subsplat::fail(SS_INVALID_ARGUMENT, "material is not translucent");
-    subsplat::DipoleMaterial dipole = subsplat::dipoleMaterial(m);
+    if (m.kind == SS_MATERIAL_OPAQUE) subsplat::fail(SS_INVALID_ARGUMENT, "material is not translucent");
+    std::shared_ptr<const subsplat::ProfileSet> set;
+    std::vector<std::unique_ptr<subsplat::RadialProfile>> channels;
+    for (int c = 0; c < 3; ++c) {
+      if (m.kind == SS_MATERIAL_SUBEDIT) {
+        if (!set) set = profileSet(m.profiles, "material profiles");
+        channels.push_back(std::make_unique<subsplat::SegmentedProfile>(set->channel(0, c)));
+      } else {
+        channels.push_back(std::make_unique<subsplat::Dipole>(subsplat::dipoleMaterial(m).channels[size_t(c)]));
+      }
+    }
     *out = SsProfileInfo{};
     double support = 0.0;
     for (int c = 0; c < 3; ++c) {
-      subsplat::Dipole d(dipole.channels[c]);
-      out->total_reflectance[c] = float(d.totalReflectance());
+      const subsplat::RadialProfile& d = *channels[size_t(c)];
+      out->total_reflectance[c] = float(d.totalEnergy());
       out->effective_range[c] =
           float(d.radiusForEnergy(subsplat::SplatKernel::kEffectiveRangeEnergy) / m.mm_per_unit);
       support = std::max(support, d.radiusForEnergy(subsplat::SplatKernel::kSupportEnergy) / m.mm_per_unit);
     }
     out->support_radius = float(support);
+  });
+}
+
+SsStatus ssNewProfileSet(const SsProfileSetDesc* desc, float tol, SsProfileSet* out) {
+  return guarded("ssNewProfileSet", [&] {
+    const SsProfileSetDesc& d = deref(desc, "desc");
+    newProfileSet(out, [&] {
+      return subsplat::ProfileSet::fromTexels(int(std::min<uint32_t>(d.width, INT32_MAX)),
+                                              int(std::min<uint32_t>(d.height, INT32_MAX)),
+                                              int(std::min<uint32_t>(d.segments, INT32_MAX)), d.radius_mm,
+                                              d.log_profiles, tolerance(tol));
+    });
+  });
+}
+
+SsStatus ssNewProfileSetFromDipoles(uint32_t width, uint32_t height, const float* sigmaA, const float* sigmaSPrime,
+                                    float eta, float tol, SsProfileSet* out) {
+  return guarded("ssNewProfileSetFromDipoles", [&] {
+    newProfileSet(out, [&] {
+      return subsplat::ProfileSet::fromDipoles(int(std::min<uint32_t>(width, INT32_MAX)),
+                                               int(std::min<uint32_t>(height, INT32_MAX)), sigmaA, sigmaSPrime, eta,
+                                               tolerance(tol));
+    });
+  });
+}
+
+SsStatus ssLoadProfileSet(const char* path, float tol, SsProfileSet* out) {
+  return guarded("ssLoadProfileSet", [&] {
+    const char* p = &deref(path, "path");
+    newProfileSet(out, [&] { return subsplat::readSubEditFile(p, tolerance(tol)); });
+  });
+}
+
+SsStatus ssSaveProfileSet(SsProfileSet set, const char* path) {
+  return guarded("ssSaveProfileSet", [&] {
+    std::shared_ptr<const subsplat::ProfileSet> s = profileSet(set, "set");
+    subsplat::writeSubEditFile(*s, &deref(path, "path"));
+  });
+}
+
+SsStatus ssGetProfileSetInfo(SsProfileSet set, SsProfileSetInfo* out) {
+  return guarded("ssGetProfileSetInfo", [&] {
+    std::shared_ptr<const subsplat::ProfileSet> s = profileSet(set, "set");
+    if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
+    const subsplat::ProfileSetInfo& i = s->info();
+    *out = SsProfileSetInfo{};
+    out->segments = uint32_t(i.segments);
+    out->profiles = uint32_t(i.profiles);
+    out->width = uint32_t(i.width);
+    out->height = uint32_t(i.height);
+    out->radius_mm = float(i.radiusMm);
+    out->fit_error = float(i.fitError);
+    out->max_fit_error = float(i.maxFitError);
+    out->source_segments = uint32_t(i.sourceSegments);
+    out->source_profiles = uint32_t(i.sourceProfiles);
+    double shortest = 1e300, longest = 0.0;
+    for (int p = 0; p < i.profiles; ++p)
+      for (int c = 0; c < 3; ++c) {
+        double r = s->channel(p, c).radiusForEnergy(subsplat::SplatKernel::kEffectiveRangeEnergy);
+        shortest = std::min(shortest, r);
+        longest = std::max(longest, r);
+      }
+    out->effective_range_mm[0] = float(shortest);
+    out->effective_range_mm[1] = float(longest);
+    out->gpu_bytes = uint64_t(i.profiles) * subsplat::SplatKernel::kSizeA * subsplat::SplatKernel::kSizeD * 4 *
+                         sizeof(float) +
+                     (i.profiles > 1 ? s->map().size() * sizeof(uint16_t) : 0);
+  });
+}
+
+SsStatus ssReleaseProfileSet(SsProfileSet set) {
+  return guarded("ssReleaseProfileSet", [&] {
+    profileSet(set, "set");
+    set->magic = 0;
+    delete set;
   });
 }
 

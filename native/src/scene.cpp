@@ -23,9 +23,11 @@ std::string vec3String(const float* v) {
 
 }  // namespace
 
+bool isTranslucent(const SsMaterialDesc& m) { return m.kind == SS_MATERIAL_DIPOLE || m.kind == SS_MATERIAL_SUBEDIT; }
+
 void validateMaterial(const SsMaterialDesc& m) {
-  require(m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_DIPOLE,
-          "material kind " + std::to_string(m.kind) + " is not OPAQUE or DIPOLE");
+  require(m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_DIPOLE || m.kind == SS_MATERIAL_SUBEDIT,
+          "material kind " + std::to_string(m.kind) + " is not OPAQUE, DIPOLE or SUBEDIT");
   require(finite(m.base_color, 3) && m.base_color[0] >= 0 && m.base_color[1] >= 0 &&
               m.base_color[2] >= 0,
           "base colour must be finite and non-negative, got " + vec3String(m.base_color));
@@ -33,7 +35,12 @@ void validateMaterial(const SsMaterialDesc& m) {
           "roughness must be in [0, 1], got " + std::to_string(m.roughness));
   require(std::isfinite(m.specular) && m.specular >= 0 && m.specular <= 1,
           "specular must be in [0, 1], got " + std::to_string(m.specular));
-  if (m.kind != SS_MATERIAL_DIPOLE) return;
+  if (m.kind == SS_MATERIAL_OPAQUE) return;
+  require(std::isfinite(m.eta) && m.eta >= 1.0f && m.eta <= 3.0f,
+          "eta must be in [1, 3], got " + std::to_string(m.eta));
+  require(std::isfinite(m.mm_per_unit) && m.mm_per_unit >= 1e-6f && m.mm_per_unit <= 1e9f,
+          "mm_per_unit must be in [1e-6, 1e9], got " + std::to_string(m.mm_per_unit));
+  if (m.kind == SS_MATERIAL_SUBEDIT) return;  // the profile set is checked where it is resolved
   require(finite(m.sigma_a, 3), "sigma_a must be finite, got " + vec3String(m.sigma_a));
   require(finite(m.sigma_s_prime, 3),
           "sigma_s' must be finite, got " + vec3String(m.sigma_s_prime));
@@ -43,10 +50,6 @@ void validateMaterial(const SsMaterialDesc& m) {
     require(m.sigma_s_prime[c] >= 0 && m.sigma_s_prime[c] <= 1e4,
             "sigma_s' must be in [0, 1e4] per mm, got " + vec3String(m.sigma_s_prime));
   }
-  require(std::isfinite(m.eta) && m.eta >= 1.0f && m.eta <= 3.0f,
-          "eta must be in [1, 3], got " + std::to_string(m.eta));
-  require(std::isfinite(m.mm_per_unit) && m.mm_per_unit >= 1e-6f && m.mm_per_unit <= 1e9f,
-          "mm_per_unit must be in [1e-6, 1e9], got " + std::to_string(m.mm_per_unit));
 }
 
 DipoleMaterial dipoleMaterial(const SsMaterialDesc& d) {
@@ -56,20 +59,28 @@ DipoleMaterial dipoleMaterial(const SsMaterialDesc& d) {
   return m;
 }
 
-void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc) {
+void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles) {
   validateMaterial(desc);
+  require(desc.kind != SS_MATERIAL_SUBEDIT || profiles, "a SUBEDIT material needs a profile set");
   Material m;
   m.desc = desc;
+  m.desc.profiles = nullptr;
+  auto it = materials_.find(id);
+  const Material* old = it != materials_.end() ? &it->second : nullptr;
   if (desc.kind == SS_MATERIAL_DIPOLE) {
     // Rebuild the kernel table only when the dipole itself changed.
-    auto it = materials_.find(id);
-    bool same = it != materials_.end() && it->second.kernel &&
-                std::memcmp(it->second.desc.sigma_a, desc.sigma_a, sizeof desc.sigma_a) == 0 &&
-                std::memcmp(it->second.desc.sigma_s_prime, desc.sigma_s_prime,
-                            sizeof desc.sigma_s_prime) == 0 &&
-                it->second.desc.eta == desc.eta && it->second.desc.mm_per_unit == desc.mm_per_unit;
-    m.kernel = same ? it->second.kernel
-                    : std::make_shared<const SplatKernel>(dipoleMaterial(desc));
+    bool same = old && old->desc.kind == SS_MATERIAL_DIPOLE &&
+                std::memcmp(old->desc.sigma_a, desc.sigma_a, sizeof desc.sigma_a) == 0 &&
+                std::memcmp(old->desc.sigma_s_prime, desc.sigma_s_prime, sizeof desc.sigma_s_prime) == 0 &&
+                old->desc.eta == desc.eta && old->desc.mm_per_unit == desc.mm_per_unit;
+    if (same)
+      m.kernels = old->kernels;
+    else
+      m.kernels.push_back(std::make_shared<const SplatKernel>(dipoleMaterial(desc)));
+  } else if (desc.kind == SS_MATERIAL_SUBEDIT) {
+    m.profiles = std::move(profiles);
+    bool same = old && old->profiles == m.profiles && old->desc.mm_per_unit == desc.mm_per_unit;
+    m.kernels = same ? old->kernels : m.profiles->kernels(desc.mm_per_unit);
   }
   materials_[id] = std::move(m);
   ++materialVersion_;
@@ -147,6 +158,11 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
   mesh.normals = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(glm::vec3) * d.vertex_count, normals.data());
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(1);
+  if (mesh.hasUvs()) {
+    mesh.uvs = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(glm::vec2) * d.vertex_count, mesh.cpuUvs.data());
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(2);
+  }
   mesh.indices = gl::makeBuffer(GL_ELEMENT_ARRAY_BUFFER, sizeof(uint32_t) * 3 * d.triangle_count,
                                 d.indices);
   glBindVertexArray(0);
@@ -213,10 +229,34 @@ void Scene::resolveMaterials() {
   if (resolvedVersion_ == materialVersion_) return;
   dense_.clear();
   denseIndex_.clear();
+  std::vector<uint16_t> maps;
   for (const auto& [id, material] : materials_) {
-    denseIndex_[id] = int(dense_.size());
-    dense_.push_back(material);
+    int base = int(dense_.size());
+    denseIndex_[id] = base;
+    size_t entries = std::max<size_t>(material.kernels.size(), 1);
+    for (size_t e = 0; e < entries; ++e) {
+      MaterialEntry entry;
+      entry.desc = material.desc;
+      entry.kernel = e < material.kernels.size() ? material.kernels[e] : nullptr;
+      entry.base = base;
+      entry.id = id;
+      entry.profiles = material.profiles;
+      dense_.push_back(std::move(entry));
+    }
+    if (dense_[size_t(base)].mapped()) {
+      const std::vector<uint16_t>& map = material.profiles->map();
+      maps.insert(maps.end(), map.begin(), map.end());
+    }
   }
+  if (maps.empty()) maps.push_back(0);
+  profileMapBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, maps.size() * sizeof(uint16_t), maps.data());
+  GLuint mapTexture = 0;
+  glGenTextures(1, &mapTexture);
+  profileMapTexture_ = gl::Texture(mapTexture);
+  glBindTexture(GL_TEXTURE_BUFFER, mapTexture);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_R16UI, profileMapBuffer_.id());
+  heterogeneous_ = false;
+  for (const MaterialEntry& e : dense_) heterogeneous_ |= e.mapped();
   for (auto& [objectId, mesh] : meshes_) {
     std::vector<uint32_t> dense(mesh.materialIds.size());
     mesh.translucent = false;
@@ -226,7 +266,14 @@ void Scene::resolveMaterials() {
         fail(SS_INVALID_ARGUMENT, "mesh " + std::to_string(objectId) + " uses material " +
                                       std::to_string(mesh.materialIds[t]) + ", which was never set");
       dense[t] = uint32_t(it->second);
-      mesh.translucent |= dense_[it->second].desc.kind == SS_MATERIAL_DIPOLE;
+      mesh.translucent |= isTranslucent(dense_[size_t(it->second)].desc);
+    }
+    // Two translucent materials on one object scatter into each other.
+    int translucentMaterial = -1;
+    for (uint32_t m : dense) {
+      if (!isTranslucent(dense_[m].desc)) continue;
+      heterogeneous_ |= translucentMaterial >= 0 && translucentMaterial != int(m);
+      translucentMaterial = int(m);
     }
     glBindBuffer(GL_TEXTURE_BUFFER, mesh.triangleMaterialBuffer.id());
     glBufferSubData(GL_TEXTURE_BUFFER, 0, GLsizeiptr(dense.size() * sizeof(uint32_t)), dense.data());

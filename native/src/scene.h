@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gl/gl.h"
+#include "material/profile_set.h"
 #include "material/splat_kernel.h"
 #include "subsplat/subsplat.h"
 
@@ -28,12 +29,13 @@ struct Bounds {
 struct Mesh {
   int index = 0;  // dense index written to the buffers
   gl::VertexArray vertexArray;
-  gl::Buffer positions, normals, indices, triangleMaterialBuffer;
+  gl::Buffer positions, normals, uvs, indices, triangleMaterialBuffer;
   gl::Texture triangleMaterials;  // buffer texture of dense material indices
   std::vector<uint32_t> materialIds; // caller's material id per triangle
   // CPU copies for REFERENCE (object space; normals after repair).
   std::vector<glm::vec3> cpuPositions, cpuNormals;
   std::vector<glm::vec2> cpuUvs;  // empty when the caller gave none
+  bool hasUvs() const { return !cpuUvs.empty(); }
   std::vector<uint32_t> cpuIndices;
   std::vector<uint32_t> denseMaterials;  // per triangle, after resolveMaterials()
   uint32_t triangleCount = 0;
@@ -42,21 +44,43 @@ struct Mesh {
   bool translucent = false;  // resolved at render time
 };
 
+// A material as the caller set it.
 struct Material {
-  SsMaterialDesc desc{};
-  std::shared_ptr<const SplatKernel> kernel;  // translucent only
+  SsMaterialDesc desc{};  // desc.profiles is not kept; see profiles
+  std::shared_ptr<const ProfileSet> profiles;               // SUBEDIT
+  std::vector<std::shared_ptr<const SplatKernel>> kernels;  // DIPOLE: 1; SUBEDIT: one per palette entry
 };
 
-// The GPU layout of one material (common.glsl: Material).
+// What the renderers index: one entry per opaque or DIPOLE material and one
+// per palette entry of a SUBEDIT material, the material's entries in a row
+// (the first is its base). Buffers store entry indices.
+struct MaterialEntry {
+  SsMaterialDesc desc{};
+  std::shared_ptr<const SplatKernel> kernel;    // translucent only
+  std::shared_ptr<const ProfileSet> profiles;   // SUBEDIT: the material's set
+  int base = 0;                                 // the material's first entry
+  uint32_t id = 0;                              // the caller's material id
+  // The entry of a surface point of this material with texture coordinate uv
+  // (entries of a SUBEDIT material follow its palette).
+  int entryAt(const glm::vec2* uv) const {
+    return mapped() && uv ? base + profiles->profileAt(uv->x, uv->y) : base;
+  }
+  // More than one profile: a map to look up (a one-texel map is homogeneous).
+  bool mapped() const { return profiles && profiles->profileCount() > 1; }
+};
+
+// The GPU layout of one entry (common.glsl: Material).
 struct MaterialGpu {
   float baseColorKind[4];
   float optics[4];
   float ranges[4];
+  uint32_t profileMap[4];
 };
 
 class Scene {
  public:
-  void setMaterial(uint32_t id, const SsMaterialDesc& desc);
+  // profiles: the SUBEDIT material's set (desc.profiles is the API's handle to it).
+  void setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles = nullptr);
   void setMesh(uint32_t objectId, const SsMeshDesc& desc);
   void removeMesh(uint32_t objectId);
   void clear();
@@ -69,7 +93,13 @@ class Scene {
 
   const std::map<uint32_t, Mesh>& meshes() const { return meshes_; }
   const std::map<uint32_t, Material>& materials() const { return materials_; }
-  const std::vector<Material>& denseMaterials() const { return dense_; }
+  const std::vector<MaterialEntry>& denseMaterials() const { return dense_; }
+  // Palette indices of every SUBEDIT map, one after another (R16UI buffer
+  // texture; MaterialGpu::profileMap holds each map's offset and size).
+  GLuint profileMaps() const { return profileMapTexture_.id(); }
+  // Whether some object can carry more than one translucent entry, so that
+  // R_d(x_i, x_o) = sqrt(P_i P_o) needs both ends (eq. 8).
+  bool heterogeneous() const { return heterogeneous_; }
   const std::vector<SsLightDesc>& lights() const { return lights_; }
   const SsCameraDesc& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }
@@ -79,7 +109,10 @@ class Scene {
  private:
   std::map<uint32_t, Material> materials_;
   std::map<uint32_t, Mesh> meshes_;
-  std::vector<Material> dense_;
+  std::vector<MaterialEntry> dense_;
+  gl::Buffer profileMapBuffer_;
+  gl::Texture profileMapTexture_;
+  bool heterogeneous_ = false;
   std::map<uint32_t, int> denseIndex_;
   std::vector<SsLightDesc> lights_;
   SsCameraDesc camera_{};
@@ -89,6 +122,7 @@ class Scene {
 };
 
 DipoleMaterial dipoleMaterial(const SsMaterialDesc& desc);
+bool isTranslucent(const SsMaterialDesc& desc);
 void validateMaterial(const SsMaterialDesc& desc);
 
 }  // namespace subsplat

@@ -3,6 +3,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cerrno>
+#include <cstddef>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -22,7 +23,10 @@ constexpr uint32_t kMeshHasUvs = 1;
 
 // The API structs are written as they lie in memory: 4-byte fields only, no
 // padding (asserted), little-endian (the only byte order the library builds for).
-static_assert(sizeof(SsMaterialDesc) == 14 * 4 && sizeof(SsLightDesc) == 13 * 4 &&
+// A material record holds SsMaterialDesc up to its profiles handle (kMaterialBytes),
+// then for SUBEDIT the profile set: n, r_s, palette and map.
+constexpr size_t kMaterialBytes = 14 * 4;
+static_assert(offsetof(SsMaterialDesc, profiles) == kMaterialBytes && sizeof(SsLightDesc) == 13 * 4 &&
                   sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 14 * 4,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "scene files are little-endian");
@@ -121,6 +125,32 @@ void readMesh(Renderer& renderer, Reader& r) {
   renderer.scene().setMesh(id, desc);
 }
 
+void readMaterial(Renderer& renderer, Reader& r) {
+  uint32_t id = r.get<uint32_t>();
+  SsMaterialDesc desc{};
+  std::vector<char> bytes = r.getArray<char>(kMaterialBytes);
+  std::memcpy(&desc, bytes.data(), kMaterialBytes);
+  std::shared_ptr<const ProfileSet> profiles;
+  if (desc.kind == SS_MATERIAL_SUBEDIT) {
+    int32_t segments = r.get<int32_t>();
+    float radius = r.get<float>();
+    int32_t count = r.get<int32_t>(), width = r.get<int32_t>(), height = r.get<int32_t>();
+    require(segments >= 1 && segments <= ProfileSet::kMaxSegments && count >= 1 &&
+                count <= ProfileSet::kMaxProfiles && width >= 1 && height >= 1 && width <= ProfileSet::kMaxSide &&
+                height <= ProfileSet::kMaxSide,
+            r.what() + ": profile set sizes out of range");
+    std::vector<float> palette = r.getArray<float>(size_t(count) * size_t(segments + 1) * 3);
+    std::vector<uint16_t> map = r.getArray<uint16_t>(size_t(width) * size_t(height));
+    try {
+      profiles = std::make_shared<const ProfileSet>(
+          ProfileSet::fromPalette(segments, radius, std::move(palette), width, height, std::move(map), {}));
+    } catch (const Error& e) {
+      fail(e.status(), r.what() + ": " + e.what());
+    }
+  }
+  renderer.scene().setMaterial(id, desc, std::move(profiles));
+}
+
 FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const std::string& path) {
   FrameSize frame;
   Reader file(bytes.data(), bytes.size(), path);
@@ -141,11 +171,9 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
     std::vector<char> payload = file.getArray<char>(size);
     Reader r(payload.data(), payload.size(), path + ", record " + std::to_string(index));
     switch (tag) {
-      case kMaterial: {
-        uint32_t id = r.get<uint32_t>();
-        renderer.scene().setMaterial(id, r.get<SsMaterialDesc>());
+      case kMaterial:
+        readMaterial(renderer, r);
         break;
-      }
       case kMesh:
         readMesh(renderer, r);
         break;
@@ -187,7 +215,17 @@ void saveScene(const Renderer& renderer, const std::string& path) {
   for (const auto& [id, material] : scene.materials())
     w.record(kMaterial, [&] {
       w.put(id);
-      w.put(material.desc);
+      const char* desc = reinterpret_cast<const char*>(&material.desc);
+      for (size_t i = 0; i < kMaterialBytes; ++i) w.put(desc[i]);
+      if (!material.profiles) return;
+      const ProfileSet& set = *material.profiles;
+      w.put(int32_t(set.segments()));
+      w.put(float(set.radiusMm()));
+      w.put(int32_t(set.profileCount()));
+      w.put(int32_t(set.width()));
+      w.put(int32_t(set.height()));
+      w.putArray(set.palette());
+      w.putArray(set.map());
     });
   for (const auto& [id, mesh] : scene.meshes())
     w.record(kMesh, [&] {

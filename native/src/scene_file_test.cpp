@@ -73,6 +73,34 @@ TEST_F(SceneFile, ReplaysTheSameImageInAFreshContext) {
   EXPECT_EQ(ssReleaseContext(replay), SS_OK);
 }
 
+// A heterogeneous material travels with its profiles and map: the same pixels.
+TEST_F(SceneFile, ReplaysAHeterogeneousMaterial) {
+  const float marbleA[3] = {0.0021f, 0.0041f, 0.0071f}, marbleS[3] = {2.19f, 2.62f, 3.00f};
+  const float skinA[3] = {0.032f, 0.17f, 0.48f}, skinS[3] = {0.74f, 0.88f, 1.01f};
+  std::vector<float> a, s;
+  for (int t = 0; t < 16; ++t) {
+    bool marble = (t % 4 + t / 4) % 2 == 0;
+    a.insert(a.end(), marble ? marbleA : skinA, (marble ? marbleA : skinA) + 3);
+    s.insert(s.end(), marble ? marbleS : skinS, (marble ? marbleS : skinS) + 3);
+  }
+  SsProfileSet set = nullptr;
+  ASSERT_EQ(ssNewProfileSetFromDipoles(4, 4, a.data(), s.data(), 1.3f, 0.0f, &set), SS_OK) << ssGetLastError();
+  SsMaterialDesc m = testing::marbleMaterial(100.0f);
+  m.kind = SS_MATERIAL_SUBEDIT;
+  m.profiles = set;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, m), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssReleaseProfileSet(set), SS_OK);
+  SsSettings settings{SS_METHOD_BRUTE, 128, {0, 0, 0, 1}, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0};
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+  std::vector<float> original = render(context, 32, 32);
+  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
+  SsContext replay = nullptr;
+  ASSERT_EQ(ssNewContext(&replay), SS_OK);
+  ASSERT_EQ(ssLoadScene(replay, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  EXPECT_EQ(render(replay, 32, 32), original);
+  EXPECT_EQ(ssReleaseContext(replay), SS_OK);
+}
+
 TEST_F(SceneFile, MissingFileAndNullArgumentsAreRejected) {
   EXPECT_EQ(ssLoadScene(context, "/nonexistent/dir/scene.ssscene", nullptr, nullptr), SS_INVALID_ARGUMENT);
   EXPECT_NE(std::string(ssGetLastError()).find("cannot read /nonexistent/dir/scene.ssscene"), std::string::npos)

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 5
+#define SS_API_VERSION 6
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -43,6 +43,8 @@ typedef enum SsStatus {
 } SsStatus;
 
 typedef struct SsContext_* SsContext;
+/* A heterogeneous material's SubEdit profiles and their map (see below). */
+typedef struct SsProfileSet_* SsProfileSet;
 
 typedef enum SsMethod {
   SS_METHOD_BRUTE = 0,    /* every finest-level texel splatted (Shah et al. 2009) */
@@ -73,7 +75,8 @@ typedef struct SsMeshDesc {
 
 typedef enum SsMaterialKind {
   SS_MATERIAL_OPAQUE = 0,  /* diffuse + specular, no subsurface transport */
-  SS_MATERIAL_DIPOLE = 1   /* homogeneous dipole (Jensen et al. 2001) */
+  SS_MATERIAL_DIPOLE = 1,  /* homogeneous dipole (Jensen et al. 2001) */
+  SS_MATERIAL_SUBEDIT = 2  /* heterogeneous: SubEdit profiles mapped by UV (eq. 8, 9) */
 } SsMaterialKind;
 
 typedef struct SsMaterialDesc {
@@ -81,10 +84,13 @@ typedef struct SsMaterialDesc {
   float base_color[3];     /* OPAQUE: diffuse albedo */
   float sigma_a[3];        /* DIPOLE: absorption, per mm */
   float sigma_s_prime[3];  /* DIPOLE: reduced scattering, per mm */
-  float eta;               /* DIPOLE: relative index of refraction */
-  float mm_per_unit;       /* DIPOLE: millimetres per scene unit */
+  float eta;               /* DIPOLE, SUBEDIT: relative index of refraction */
+  float mm_per_unit;       /* DIPOLE, SUBEDIT: millimetres per scene unit */
   float roughness;         /* specular roughness in [0, 1] */
   float specular;          /* Principled-style specular level in [0, 1] */
+  /* SUBEDIT: the profiles; the material keeps its own reference, so the set may be
+   * released after ssSetMaterial. Meshes without UVs get the set's most common profile. */
+  SsProfileSet profiles;
 } SsMaterialDesc;
 
 typedef struct SsLightDesc {
@@ -218,12 +224,52 @@ SS_API SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback call
 SS_API SsStatus ssSaveScene(SsContext context, const char* path);
 SS_API SsStatus ssLoadScene(SsContext context, const char* path, int32_t* frame_width, int32_t* frame_height);
 
+/* Heterogeneous materials (docs/HETEROGENEOUS.md, docs/SUBEDIT_FILE.md); no GL needed.
+ * A profile set models a map of SubEdit profiles with no more than it needs: texels with
+ * the same profile share one, more than 64 different profiles are clustered, and the
+ * number of segments is the smallest that keeps the profiles within `tolerance`, the
+ * relative energy error allowed (mean over texels; in [1e-6, 1], 0 for the default 0.01). */
+typedef struct SsProfileSetDesc {
+  uint32_t segments;          /* n in [1, 1024]: knots r_k = k r_s / n, k = 0..n */
+  float radius_mm;            /* r_s in (0, 1e6] */
+  uint32_t width, height;     /* texels in [1, 16384]; texel (x, y) covers u in [x, x+1) / width,
+                                 v in [y, y+1) / height (row 0 at v = 0); the map repeats */
+  const float* log_profiles;  /* width * height * (n + 1) * 3: ln P(r_k) in 1/mm^2, finite and
+                                 in [-1000, 50]; texel-major, then knot, then RGB */
+} SsProfileSetDesc;
+
+typedef struct SsProfileSetInfo {
+  uint32_t segments;          /* n chosen */
+  uint32_t profiles;          /* palette entries (1: homogeneous) */
+  uint32_t width, height;     /* the map (1 x 1 when homogeneous) */
+  float radius_mm;
+  float fit_error;            /* mean relative energy error against the source */
+  float max_fit_error;        /* largest, over texels and channels */
+  float effective_range_mm[2];/* shortest and longest R_P over profiles and channels */
+  uint64_t gpu_bytes;         /* splat kernel tables and map */
+  uint32_t source_segments, source_profiles; /* what the source had: n, distinct profiles */
+} SsProfileSetInfo;
+
+SS_API SsStatus ssNewProfileSet(const SsProfileSetDesc* desc, float tolerance, SsProfileSet* out);
+/* One dipole per texel: 3 * width * height values each of sigma_a and sigma_s' (per mm),
+ * texel-major then RGB; each profile keeps its dipole's total diffuse reflectance. */
+SS_API SsStatus ssNewProfileSetFromDipoles(uint32_t width, uint32_t height, const float* sigma_a,
+                                           const float* sigma_s_prime, float eta, float tolerance,
+                                           SsProfileSet* out);
+/* A SubEdit file (OpenEXR; docs/SUBEDIT_FILE.md). Path in UTF-8. */
+SS_API SsStatus ssLoadProfileSet(const char* path, float tolerance, SsProfileSet* out);
+/* Writes the set as a SubEdit file, one texel per map texel. */
+SS_API SsStatus ssSaveProfileSet(SsProfileSet set, const char* path);
+SS_API SsStatus ssGetProfileSetInfo(SsProfileSet set, SsProfileSetInfo* out);
+SS_API SsStatus ssReleaseProfileSet(SsProfileSet set);
+
 /* Material model, no GL needed. */
 typedef struct SsProfileInfo {
   float total_reflectance[3];  /* Rd_total: integral of R_d over the plane */
   float effective_range[3];    /* R_P: radius keeping 95% of the energy, scene units */
   float support_radius;        /* radius splats reach, scene units */
 } SsProfileInfo;
+/* DIPOLE materials; SUBEDIT: the set's most common profile. */
 SS_API SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out);
 
 #ifdef __cplusplus

@@ -72,7 +72,7 @@ class StateGuard {
  private:
   GLint drawFramebuffer_ = 0, readFramebuffer_ = 0, program_ = 0, vertexArray_ = 0;
   GLint arrayBuffer_ = 0, activeTexture_ = 0, viewport_[4] = {}, scissorBox_[4] = {};
-  static constexpr int kUnits = 8;  // texture units the pipeline binds
+  static constexpr int kUnits = 9;  // texture units the pipeline binds
   GLint texture2D_[kUnits] = {}, texture2DArray_[kUnits] = {}, textureBuffer_[kUnits] = {};
   GLint uniformBuffer_ = 0;
   GLint shaderStorageBuffer_ = 0;

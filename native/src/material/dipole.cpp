@@ -49,10 +49,12 @@ double Dipole::totalReflectance() const {
   return 0.5 * albedo_ * (std::exp(-sigmaTr_ * zr_) + std::exp(-sigmaTr_ * zv_));
 }
 
-double Dipole::radiusForEnergy(double fraction) const {
-  double target = fraction * totalReflectance();
+double RadialProfile::radiusForEnergy(double fraction) const {
+  double total = totalEnergy();
+  if (!(total > 0.0)) return 0.0;
+  double target = fraction * total;
   // energyWithin is monotone: bracket, then bisect.
-  double hi = zr_;
+  double hi = scaleHint() > 0.0 ? scaleHint() : 1.0;
   while (energyWithin(hi) < target && hi < 1e12) hi *= 2.0;
   double lo = 0.0;
   for (int i = 0; i < 200; ++i) {

@@ -2,6 +2,8 @@
 // papers/lensch2002 fig. 2). Lengths in millimetres, R_d in 1/mm^2.
 #pragma once
 
+#include "material/radial_profile.h"
+
 namespace subsplat {
 
 struct DipoleChannel {
@@ -17,7 +19,7 @@ double fresnelDiffuseReflectance(double eta);
 // dielectric of relative index eta at cos(theta) = cosTheta.
 double fresnelTransmittance(double eta, double cosTheta);
 
-class Dipole {
+class Dipole final : public RadialProfile {
  public:
   explicit Dipole(const DipoleChannel& channel);
 
@@ -25,11 +27,13 @@ class Dipole {
   double diffuseReflectance(double r) const;
   // Energy within radius r: the integral of R_d over the disk, 2 pi r dr.
   // Closed form: d/dr(e^{-s d}/d) = -(s + 1/d) e^{-s d} r / d^3.
-  double energyWithin(double r) const;
+  double energyWithin(double r) const override;
   // Rd_total: energy over the whole plane (DESIGN.md, Jensen et al. 2001).
   double totalReflectance() const;
-  // Radius that keeps the given fraction of totalReflectance().
-  double radiusForEnergy(double fraction) const;
+
+  double value(double r) const override { return diffuseReflectance(r); }
+  double totalEnergy() const override { return totalReflectance(); }
+  double scaleHint() const override { return zr_; }
 
   double reducedAlbedo() const { return albedo_; }
   double effectiveExtinction() const { return sigmaTr_; }

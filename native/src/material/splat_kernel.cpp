@@ -6,16 +6,21 @@
 namespace subsplat {
 
 SplatKernel::SplatKernel(const DipoleMaterial& m)
-    : dipoles_{Dipole(m.channels[0]), Dipole(m.channels[1]), Dipole(m.channels[2])},
-      mmPerUnit_(m.mmPerUnit) {
+    : SplatKernel(Channels{std::make_shared<Dipole>(m.channels[0]), std::make_shared<Dipole>(m.channels[1]),
+                           std::make_shared<Dipole>(m.channels[2])},
+                  m.mmPerUnit) {}
+
+SplatKernel::SplatKernel(Channels channels, double mmPerUnit) : channels_(std::move(channels)), mmPerUnit_(mmPerUnit) {
   for (int c = 0; c < 3; ++c) {
-    const Dipole& dipole = dipoles_[c];
-    totalReflectance_[c] = dipole.totalReflectance();
-    effectiveRange_[c] = dipole.radiusForEnergy(kEffectiveRangeEnergy) / mmPerUnit_;
-    supportRadius_ = std::max(supportRadius_, dipole.radiusForEnergy(kSupportEnergy) / mmPerUnit_);
+    const RadialProfile& profile = *channels_[size_t(c)];
+    totalReflectance_[c] = profile.totalEnergy();
+    effectiveRange_[c] = profile.radiusForEnergy(kEffectiveRangeEnergy) / mmPerUnit_;
+    supportRadius_ = std::max(supportRadius_, profile.radiusForEnergy(kSupportEnergy) / mmPerUnit_);
   }
+  // An empty profile (all of P zero) still gets a finite support.
+  if (!(supportRadius_ > 0.0)) supportRadius_ = channels_[0]->scaleHint() / mmPerUnit_;
   for (int c = 0; c < 3; ++c) {
-    double kept = dipoles_[c].energyWithin(supportRadius_ * mmPerUnit_);
+    double kept = channels_[size_t(c)]->energyWithin(supportRadius_ * mmPerUnit_);
     normalisation_[c] = kept > 0.0 ? totalReflectance_[c] / kept : 0.0;
   }
 
@@ -41,19 +46,31 @@ double SplatKernel::tableDistance(int id, double sigma, double supportRadius) {
 }
 
 std::vector<float> SplatKernel::minimalRadiusTable(double epsilon) const {
+  return minimalRadiusTable({{this, 1.0}}, epsilon);
+}
+
+std::vector<float> SplatKernel::minimalRadiusTable(
+    const std::vector<std::pair<const SplatKernel*, double>>& kernels, double epsilon) {
   // Mean normalised profile P(r) r on [0, 1] and its tail integrals.
   constexpr int kFine = 4096;
   std::vector<double> profile(kFine + 1, 0.0), tail(kFine + 2, 0.0);
-  // All channels over the longest range R_P (the multiresolution ranges are
-  // R_P max x R-bar): the steep part of every channel stays below R-bar.
-  double rangeMm = std::max({effectiveRange_[0], effectiveRange_[1], effectiveRange_[2]}) * mmPerUnit_;
-  for (int c = 0; c < 3; ++c) {
-    double energy = dipoles_[c].energyWithin(rangeMm) / (2.0 * M_PI);  // integral of P(s) s ds
-    if (!(energy > 0.0) || !(rangeMm > 0.0)) continue;
-    double scale = rangeMm * rangeMm / energy / 3.0;  // C of eq. 16, averaged over channels
-    for (int i = 0; i <= kFine; ++i) {
-      double r = double(i) / kFine;
-      profile[i] += scale * dipoles_[c].diffuseReflectance(r * rangeMm) * r;
+  double weights = 0.0;
+  for (const auto& [kernel, weight] : kernels) weights += weight;
+  for (const auto& [kernel, weight] : kernels) {
+    // All channels over the longest range R_P (the multiresolution ranges are
+    // R_P max x R-bar): the steep part of every channel stays below R-bar.
+    const auto& range = kernel->effectiveRange_;
+    double rangeMm = std::max({range[0], range[1], range[2]}) * kernel->mmPerUnit_;
+    for (int c = 0; c < 3; ++c) {
+      const RadialProfile& channel = *kernel->channels_[size_t(c)];
+      double energy = channel.energyWithin(rangeMm) / (2.0 * M_PI);  // integral of P(s) s ds
+      if (!(energy > 0.0) || !(rangeMm > 0.0) || !(weights > 0.0)) continue;
+      // C of eq. 16, averaged over channels and profiles.
+      double scale = rangeMm * rangeMm / energy / 3.0 * weight / weights;
+      for (int i = 0; i <= kFine; ++i) {
+        double r = double(i) / kFine;
+        profile[size_t(i)] += scale * channel.value(r * rangeMm) * r;
+      }
     }
   }
   for (int i = kFine - 1; i >= 0; --i) tail[i] = tail[i + 1] + 0.5 * (profile[i] + profile[i + 1]) / kFine;
@@ -89,7 +106,7 @@ std::vector<float> SplatKernel::minimalRadiusTable(double epsilon) const {
 
 double SplatKernel::energyWithin(int c, double r) const {
   r = std::min(r, supportRadius_);
-  return normalisation_[c] * dipoles_[c].energyWithin(r * mmPerUnit_);
+  return normalisation_[size_t(c)] * channels_[size_t(c)]->energyWithin(r * mmPerUnit_);
 }
 
 namespace {

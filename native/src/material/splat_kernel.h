@@ -1,4 +1,5 @@
-// The splat kernel of one homogeneous material, averaged over the footprint
+// The splat kernel of one profile (a homogeneous dipole or one SubEdit
+// palette entry, material/profile_set.h), averaged over the footprint
 // of the irradiance texel it splats.
 //
 // Eq. 5 sums R_d(|x_i - x_o|) E(x_i) dA(x_i) over irradiance texels. Point
@@ -22,9 +23,12 @@
 #pragma once
 
 #include <array>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "material/dipole.h"
+#include "material/radial_profile.h"
 
 namespace subsplat {
 
@@ -46,7 +50,9 @@ class SplatKernel {
   static constexpr double kMinLog2 = -12.0;
   static constexpr double kMaxLog2 = 12.0;
 
+  using Channels = std::array<std::shared_ptr<const RadialProfile>, 3>;
   explicit SplatKernel(const DipoleMaterial& material);
+  SplatKernel(Channels channels, double mmPerUnit);
 
   double supportRadius() const { return supportRadius_; }  // scene units
   const std::array<double, 3>& effectiveRange() const { return effectiveRange_; }
@@ -69,6 +75,12 @@ class SplatKernel {
   static constexpr double kMinLog2T = -2.0;
   static constexpr double kMaxLog2T = 12.0;
   std::vector<float> minimalRadiusTable(double epsilon) const;
+  // The same over the mean normalised profile of several kernels, weighted
+  // (a heterogeneous material's palette, weighted by texel counts).
+  static std::vector<float> minimalRadiusTable(const std::vector<std::pair<const SplatKernel*, double>>& kernels,
+                                               double epsilon);
+  const RadialProfile& channel(int c) const { return *channels_[size_t(c)]; }
+  double mmPerUnit() const { return mmPerUnit_; }
 
   // kSizeA rows of kSizeD RGBA texels (alpha unused), row-major.
   const std::vector<float>& table() const { return table_; }
@@ -76,7 +88,7 @@ class SplatKernel {
   static double tableDistance(int id, double sigma, double supportRadius);
 
  private:
-  std::array<Dipole, 3> dipoles_;
+  Channels channels_;
   std::array<double, 3> normalisation_{}, effectiveRange_{}, totalReflectance_{};
   double mmPerUnit_ = 1.0, supportRadius_ = 0.0;
   std::vector<float> table_;

@@ -36,12 +36,14 @@ void setLightUniforms(GLuint program, const LightView& view) {
 
 void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
   glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+  bindTexture(8, GL_TEXTURE_BUFFER, scene.profileMaps(), program, "profileMaps");
   for (const auto& [id, mesh] : scene.meshes()) {
     glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(mesh.objectToWorld)));
     glUniformMatrix4fv(uniform(program, "objectToWorld"), 1, GL_FALSE,
                        glm::value_ptr(mesh.objectToWorld));
     glUniformMatrix3fv(uniform(program, "normalToWorld"), 1, GL_FALSE, glm::value_ptr(normalToWorld));
     glUniform1f(uniform(program, "objectIndex"), float(mesh.index));
+    glUniform1i(uniform(program, "meshHasUvs"), mesh.hasUvs() ? 1 : 0);
     bindTexture(7, GL_TEXTURE_BUFFER, mesh.triangleMaterials.id(), program, "triangleMaterials");
     glBindVertexArray(mesh.vertexArray.id());
     glDrawElements(GL_TRIANGLES, GLsizei(3 * mesh.triangleCount), GL_UNSIGNED_INT, nullptr);

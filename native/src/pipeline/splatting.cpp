@@ -123,6 +123,8 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glUniform1fv(uniform(p, "levelHeight"), 8, heights);
   bindTexture(4, GL_TEXTURE_2D_ARRAY, kernels.kernels, p, "splatKernels");
   bindTexture(6, GL_TEXTURE_2D, kernels.minimalRadius, p, "minimalRadius");
+  bindTexture(7, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
+  glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
   for (int k = 0; k < splatLevels; ++k) {
     profiler.begin(SS_STAGE_SPLATTING, k);

@@ -21,7 +21,7 @@ struct Selection {
 
 // The per-material tables the splat shaders read.
 struct KernelTables {
-  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material
+  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material entry
   GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
   int layers = 1;
 };

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "material/dipole.h"
+#include "material/profile_set.h"
 #include "pipeline/buffers.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
@@ -23,17 +24,30 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-// One material's dipole in scene units (R_d in 1 / unit^2), and its surface terms.
+// One material entry's profile in scene units (R_d in 1 / unit^2): a dipole
+// or a SubEdit palette entry; and its surface terms.
 struct Profile {
   bool translucent = false;
   double scale[3]{}, zr2[3]{}, zv2[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
-  double support = 0.0, minZr = 0.0;
+  std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
+  double mmPerUnit = 1.0;
+  double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
   glm::vec3 baseColor{0.0f};
 
-  explicit Profile(const SsMaterialDesc& d)
-      : translucent(d.kind == SS_MATERIAL_DIPOLE), eta(d.eta), roughness(d.roughness),
-        specular(d.specular), baseColor(glm::make_vec3(d.base_color)) {
+  Profile(const MaterialEntry& e, int index)
+      : translucent(isTranslucent(e.desc)), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
+        roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)) {
+    const SsMaterialDesc& d = e.desc;
+    if (d.kind == SS_MATERIAL_SUBEDIT) {
+      const ProfileSet& set = *e.profiles;
+      for (int c = 0; c < 3; ++c) {
+        segmented.push_back(set.channel(index - e.base, c));
+        support = std::max(support, segmented.back().radiusForEnergy(ReferenceRenderer::kSupportEnergy) / mmPerUnit);
+      }
+      minZr = set.radiusMm() / set.segments() / mmPerUnit;
+      return;
+    }
     if (!translucent) return;
     minZr = std::numeric_limits<double>::infinity();
     for (int c = 0; c < 3; ++c) {
@@ -52,6 +66,11 @@ struct Profile {
 
   // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.cpp).
   void evaluate(double r2, double out[3]) const {
+    if (!segmented.empty()) {
+      double r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
+      for (int c = 0; c < 3; ++c) out[c] = segmented[size_t(c)].value(r) * perUnit2;
+      return;
+    }
     for (int c = 0; c < 3; ++c) {
       double dr2 = r2 + zr2[c], dv2 = r2 + zv2[c];
       double dr = std::sqrt(dr2), dv = std::sqrt(dv2);
@@ -209,8 +228,18 @@ struct TriangleCells {
 void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& options, int width, int height,
                                float* rgba, const ProgressFunction& progress, SsStats& stats) {
   auto frameStart = Clock::now();
+  const std::vector<MaterialEntry>& entries = scene.denseMaterials();
   std::vector<Profile> profiles;
-  for (const Material& m : scene.denseMaterials()) profiles.emplace_back(m.desc);
+  for (size_t i = 0; i < entries.size(); ++i) profiles.emplace_back(entries[i], int(i));
+  // The entry of a point of triangle t at barycentric w (its UV's profile).
+  auto entryAt = [&](const WorldMesh& m, uint32_t t, const glm::vec3& w) {
+    uint32_t base = (*m.materials)[t];
+    if (!entries[base].mapped() || !m.mesh->hasUvs()) return base;
+    glm::uvec3 i = m.triangle(t);
+    const std::vector<glm::vec2>& uv = m.mesh->cpuUvs;
+    glm::vec2 at = w.x * uv[i.x] + w.y * uv[i.y] + w.z * uv[i.z];
+    return uint32_t(entries[base].entryAt(&at));
+  };
   RayScene rays(scene);
   const auto& meshes = rays.meshes();
   const auto& lights = scene.lights();
@@ -240,6 +269,10 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       cells.push_back({mi, t, cuts, count});
       count += size_t(cuts) * cuts;
       objects[mi].support = std::max(objects[mi].support, profile.support);
+      const MaterialEntry& base = entries[(*m.materials)[t]];
+      if (base.mapped())  // every profile the triangle may show
+        for (int e = 0; e < base.profiles->profileCount(); ++e)
+          objects[mi].support = std::max(objects[mi].support, profiles[size_t(base.base + e)].support);
     }
     totalSamples += count;
     if (totalSamples * sizeof(SurfaceSample) > (size_t(8) << 30))
@@ -254,8 +287,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       const TriangleCells& tc = cells[ci];
       const WorldMesh& m = meshes[tc.mesh];
       glm::uvec3 tri = m.triangle(tc.triangle);
-      uint32_t material = (*m.materials)[tc.triangle];
-      const Profile& profile = profiles[material];
+      const Profile& profile = profiles[(*m.materials)[tc.triangle]];  // Fresnel: the same for every entry
       glm::vec3 p0 = m.positions[tri.x], e1 = m.positions[tri.y] - p0, e2 = m.positions[tri.z] - p0;
       glm::vec3 ng = glm::normalize(glm::cross(e1, e2));
       float n = float(tc.cuts);
@@ -272,7 +304,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         s.diameter = std::sqrt(std::max({glm::dot(s.corners[1] - s.corners[0], s.corners[1] - s.corners[0]),
                                          glm::dot(s.corners[2] - s.corners[1], s.corners[2] - s.corners[1]),
                                          glm::dot(s.corners[0] - s.corners[2], s.corners[0] - s.corners[2])}));
-        s.material = material;
+        s.material = entryAt(m, tc.triangle, {1.0f - centre.x - centre.y, centre.x, centre.y});
         glm::vec3 ns = interpolate(m.normals, tri, {1.0f - centre.x - centre.y, centre.x, centre.y});
         ns = glm::dot(ns, ns) > 0.0f ? glm::normalize(ns) : ng;
         glm::vec3 flux(0.0f);
@@ -330,7 +362,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
         glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
         if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
-        const Profile& profile = profiles[(*m.materials)[hit.triangle]];
+        const Profile& profile = profiles[entryAt(m, hit.triangle, w)];
 
         glm::vec3 color(0.0f);
         for (const SsLightDesc& light : lights) {

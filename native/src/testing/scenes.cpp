@@ -12,6 +12,7 @@ SsMeshDesc Quad::desc(float halfSize, uint32_t material) const {
   SsMeshDesc d{};
   d.positions = positions.data();
   d.normals = normals.data();
+  d.uvs = uvs.data();
   d.vertex_count = 4;
   d.indices = indices.data();
   d.triangle_count = 2;
@@ -28,6 +29,7 @@ Sphere::Sphere(int segments, int rings) {
       glm::vec3 n(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
       positions.insert(positions.end(), {n.x, n.y, n.z});
       normals.insert(normals.end(), {n.x, n.y, n.z});
+      uvs.insert(uvs.end(), {float(s) / float(segments), 1.0f - float(r) / float(rings)});
     }
   auto vertex = [segments](int r, int s) { return uint32_t(r * (segments + 1) + s); };
   for (int r = 0; r < rings; ++r)
@@ -41,6 +43,7 @@ SsMeshDesc Sphere::desc(const glm::vec3& centre, float radius, uint32_t material
   SsMeshDesc d{};
   d.positions = positions.data();
   d.normals = normals.data();
+  d.uvs = uvs.data();
   d.vertex_count = uint32_t(positions.size() / 3);
   d.indices = indices.data();
   d.triangle_count = uint32_t(indices.size() / 3);

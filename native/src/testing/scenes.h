@@ -12,14 +12,16 @@ namespace subsplat::testing {
 struct Quad {
   std::vector<float> positions{-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
   std::vector<float> normals{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  std::vector<float> uvs{0, 0, 1, 0, 1, 1, 0, 1};
   std::vector<uint32_t> indices{0, 1, 2, 0, 2, 3};
   SsMeshDesc desc(float halfSize, uint32_t material) const;
 };
 
-// A UV sphere of unit radius with smooth normals.
+// A UV sphere of unit radius with smooth normals; u runs around z, v from
+// the -z pole (0) to the +z pole (1).
 struct Sphere {
   explicit Sphere(int segments = 48, int rings = 24);
-  std::vector<float> positions, normals;
+  std::vector<float> positions, normals, uvs;
   std::vector<uint32_t> indices;
   SsMeshDesc desc(const glm::vec3& centre, float radius, uint32_t material) const;
 };

@@ -1,0 +1,53 @@
+"""Operators: Bake SubEdit Material."""
+import bpy
+from bpy_extras.io_utils import ExportHelper
+
+from . import export, native
+
+
+class SUBSPLAT_OT_bake_subedit(bpy.types.Operator, ExportHelper):
+    """Write the material's translucency, whatever its source, to a SubEdit file (OpenEXR) that other
+    tools can read and edit and that any SubEdit File material can use"""
+    bl_idname = "subsplat.bake_subedit"
+    bl_label = "Bake SubEdit Material"
+    bl_options = {"REGISTER"}
+
+    filename_ext = ".exr"
+    filter_glob: bpy.props.StringProperty(default="*.exr", options={"HIDDEN"})
+
+    @classmethod
+    def poll(cls, context):
+        material = getattr(context, "material", None)
+        return material is not None and material.subsplat.enabled
+
+    def invoke(self, context, event):
+        if not self.filepath:
+            self.filepath = bpy.path.ensure_ext(bpy.path.clean_name(context.material.name), self.filename_ext)
+        return super().invoke(context, event)
+
+    def execute(self, context):
+        material = context.material
+        path = bpy.path.abspath(self.filepath)
+        try:
+            profiles = export.material_profiles(material)
+            profiles.save(path)
+            info = profiles.info()
+        except (export.ExportError, native.SubsplatError) as error:
+            self.report({"ERROR"}, f"SubSplat: {error}")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"SubSplat: wrote '{path}': {info['width']} x {info['height']} texels, "
+                              f"{info['profiles']} profile(s) of {info['segments']} segments")
+        return {"FINISHED"}
+
+
+CLASSES = (SUBSPLAT_OT_bake_subedit,)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,193 @@
+"""Heterogeneous materials from SubEdit files, in Blender: a material baked to a file renders the
+same image from the file; editing a material or its file between renders changes the image (no
+stale cache); bad files fail `blender -b` with a message that names the material and the file;
+a mesh without UVs renders its most common profile and says so."""
+import math
+import os
+import sys
+import unittest
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
+subsplat = helpers.enable_addon()
+native = subsplat.native
+
+
+def translucent(name, preset="SKIN1", mm_per_unit=100.0):
+    material = bpy.data.materials.new(name)
+    material.subsplat.enabled = True
+    material.subsplat.preset = preset
+    material.subsplat.mm_per_unit = mm_per_unit
+    return material
+
+
+def sphere_scene(make_material, size=64):
+    """A UV sphere of radius 0.3 (with its UV map) lit by a sun from the side and a spot light
+    from behind, seen from above, with the material make_material() creates (after the new file).
+    Irradiance buffers of 128^2 texels: enough for images this small, and quick."""
+    scene = helpers.empty_scene(size, size)
+    scene.render.engine = "SUBSPLAT"
+    scene.subsplat.method = "FULL"
+    scene.subsplat.irradiance_resolution = 128
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.3)
+    obj = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    material = make_material()
+    obj.data.materials.append(material)
+    helpers.top_down_camera(scene, ortho_scale=0.8)
+    helpers.add_light(scene, "SUN", rotation=(math.radians(60), 0, 0), energy=3.0, angle=0.0)
+    helpers.add_light(scene, "SPOT", location=(-0.3, 0, -0.9), energy=30.0, shadow_soft_size=0.0,
+                      spot_size=math.radians(60))
+    return scene, obj, material
+
+
+def bake(material, path):
+    with bpy.context.temp_override(material=material):
+        result = bpy.ops.subsplat.bake_subedit(filepath=path)
+    assert result == {"FINISHED"}, result
+    return path
+
+
+def relative_difference(a, b):
+    """Sum of |a - b| over the sum of |a| on pixels where either shows the object."""
+    mask = (a[..., 3] > 0) | (b[..., 3] > 0)
+    return float(np.abs(a[mask, :3] - b[mask, :3]).sum() / max(np.abs(a[mask, :3]).sum(), 1e-30))
+
+
+def chessboard_file(path, squares=4):
+    """Marble and skin squares (the add-on's presets), written with the library's own writer."""
+    media = subsplat.presets.MEASURED_MEDIA
+    sigma_a = np.empty((squares, squares, 3), dtype=np.float32)
+    sigma_s = np.empty_like(sigma_a)
+    for y in range(squares):
+        for x in range(squares):
+            _label, s, a = media["MARBLE" if (x + y) % 2 == 0 else "SKIN1"]
+            sigma_a[y, x], sigma_s[y, x] = a, s
+    profiles = native.ProfileSet.from_dipoles(sigma_a, sigma_s, subsplat.presets.MEASURED_ETA)
+    profiles.save(path)
+    return profiles.info()
+
+
+class SubEditFiles(unittest.TestCase):
+    def path(self, name):
+        return os.path.join(helpers.OUTPUT, name)
+
+    def test_a_baked_dipole_renders_the_dipoles_image(self):
+        scene, _, material = sphere_scene(lambda: translucent("Skin"))
+        material.subsplat.subedit_path = bake(material, self.path("subedit_skin.exr"))
+        for method in ("BRUTE", "FULL", "REFERENCE"):
+            scene.subsplat.method = method
+            scene.subsplat.reference_samples = 20000
+            material.subsplat.source = "DIPOLE"
+            dipole = helpers.render(scene, f"subedit_dipole_{method.lower()}")
+            material.subsplat.source = "SUBEDIT_FILE"
+            from_file = helpers.render(scene, f"subedit_file_{method.lower()}")
+            difference = relative_difference(dipole, from_file)
+            print(f"{method}: DIPOLE against its SubEdit file: relative difference {difference:.5f}")
+            if difference >= 0.01:
+                helpers.write_difference(f"subedit_file_{method.lower()}", from_file, dipole)
+            self.assertLess(difference, 0.01, method)
+            self.assertGreater(float(dipole[..., :3].max()), 0.0)
+
+    def test_editing_the_material_or_its_file_changes_the_next_render(self):
+        scene, _, material = sphere_scene(lambda: translucent("Edited", preset="MARBLE"))
+        marble = helpers.render(scene, "subedit_edit_marble")
+        material.subsplat.preset = "KETCHUP"
+        ketchup = helpers.render(scene, "subedit_edit_ketchup")
+        self.assertGreater(relative_difference(marble, ketchup), 0.2, "a new preset renders a new image")
+        material.subsplat.preset = "MARBLE"
+        self.assertLess(relative_difference(marble, helpers.render(scene, "subedit_edit_back")), 1e-6)
+
+        path = bake(material, self.path("subedit_edited.exr"))
+        material.subsplat.source = "SUBEDIT_FILE"
+        material.subsplat.subedit_path = path
+        from_file = helpers.render(scene, "subedit_edit_file")
+        self.assertLess(relative_difference(marble, from_file), 0.01)
+        # The file changes on disk (another tool, another bake): the next render reads it again.
+        other = translucent("Other", preset="KETCHUP")
+        bake(other, path)
+        changed = helpers.render(scene, "subedit_edit_file_changed")
+        self.assertLess(relative_difference(ketchup, changed), 0.01, "the new file's material, not a cached one")
+        material.subsplat.mm_per_unit = 50.0  # the scale is the material's, not the file's
+        self.assertGreater(relative_difference(changed, helpers.render(scene, "subedit_edit_scale")), 0.05)
+
+    def test_a_chessboard_file_maps_each_profile_by_uv(self):
+        info = chessboard_file(self.path("subedit_chessboard.exr"))
+        self.assertEqual((info["profiles"], info["width"], info["height"]), (2, 4, 4))
+        scene, obj, material = sphere_scene(lambda: translucent("Board", mm_per_unit=400.0), size=96)
+        material.subsplat.source = "SUBEDIT_FILE"
+        material.subsplat.subedit_path = self.path("subedit_chessboard.exr")
+        board = helpers.render(scene, "subedit_chessboard")
+        material.subsplat.source = "DIPOLE"
+        material.subsplat.preset = "MARBLE"
+        marble = helpers.render(scene, "subedit_chessboard_marble")
+        material.subsplat.preset = "SKIN1"
+        skin = helpers.render(scene, "subedit_chessboard_skin")
+        # Lit pixels of the board show one of the two materials, except near the seams where light
+        # crosses from one to the other (about a fifth of the pixels at this size); each material
+        # covers a good share of the sphere.
+        lit = (board[..., 3] > 0) & (marble[..., :3].max(axis=-1) > 0.05 * marble[..., :3].max())
+
+        def off(image):
+            return np.abs(board - image)[..., :3].max(axis=-1) / np.maximum(image[..., :3].max(axis=-1), 1e-9)
+        off_marble, off_skin = off(marble)[lit], off(skin)[lit]
+        share = float((np.minimum(off_marble, off_skin) < 0.05).mean())
+        marble_share = float((off_marble < off_skin).mean())
+        print(f"chessboard: {share:.3f} of lit pixels within 5 % of marble or skin; {marble_share:.3f} marble")
+        self.assertGreater(share, 0.6)
+        self.assertTrue(0.25 < marble_share < 0.75, marble_share)
+        self.assertGreater(relative_difference(marble, board), 0.05, "not all marble")
+        self.assertGreater(relative_difference(skin, board), 0.05, "not all skin")
+
+    def test_a_mesh_without_uvs_renders_and_warns(self):
+        chessboard_file(self.path("subedit_no_uvs.exr"))
+        scene, obj, material = sphere_scene(lambda: translucent("NoUvs"), size=32)
+        material.subsplat.source = "SUBEDIT_FILE"
+        material.subsplat.subedit_path = self.path("subedit_no_uvs.exr")
+        while obj.data.uv_layers:
+            obj.data.uv_layers.remove(obj.data.uv_layers[0])
+        path = os.path.join(helpers.OUTPUT, "subedit_no_uvs.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        result = helpers.run_blender(path, "-o", os.path.join(helpers.OUTPUT, "subedit_no_uvs_"), "-f", "1")
+        output = result.stdout + result.stderr
+        self.assertEqual(result.returncode, 0, output[-3000:])
+        self.assertIn("has no UV map", output)
+        self.assertIn("most common profile", output)
+
+    def test_bad_files_fail_the_batch_render_with_a_message(self):
+        text = self.path("subedit_text.exr")
+        with open(text, "w") as f:
+            f.write("P0.R, P0.G, P0.B\n1, 2, 3\n")
+        plain = self.path("subedit_plain.exr")
+        image = bpy.data.images.new("Plain", 4, 4, float_buffer=True)
+        image.filepath_raw = plain
+        image.file_format = "OPEN_EXR"
+        image.save()
+        truncated = self.path("subedit_truncated.exr")
+        bake(translucent("ToCut"), truncated)
+        with open(truncated, "rb") as f:
+            data = f.read()
+        with open(truncated, "wb") as f:
+            f.write(data[:len(data) // 2])
+        cases = [("missing", self.path("no_such_file.exr"), "does not exist"),
+                 ("text", text, "not an image"),
+                 ("plain", plain, "not a SubEdit file"),
+                 ("truncated", truncated, "truncated"),
+                 ("unset", "", "no SubEdit file is set")]
+        for name, path, expected in cases:
+            with self.subTest(case=name):
+                _, _, material = sphere_scene(lambda: translucent("Bad"), size=16)
+                material.subsplat.source = "SUBEDIT_FILE"
+                material.subsplat.subedit_path = path
+                status, output = helpers.failed_batch_render(f"subedit_bad_{name}")
+                self.assertEqual(status, 1, output[-3000:])
+                self.assertIn(expected, output)
+                self.assertIn("material 'Bad'", output)
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
