@@ -1,12 +1,13 @@
 """Regenerates the example scenes of example_blends/ (deterministic).
 
     BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
-        --python example_blends/make_examples.py
+        --python example_blends/make_examples.py [-- NAME ...]
 
 Each scene is built from Blender primitives, so nothing is downloaded.
 """
 import math
 import os
+import sys
 
 import bpy
 
@@ -156,11 +157,60 @@ def wax_jade():
     return scene
 
 
-EXAMPLES = {"skin_suzanne": skin_suzanne, "marble_pieces": marble_pieces, "wax_jade": wax_jade}
+def subedit(name, file, mm_per_unit, roughness=0.3, specular=0.4):
+    """A heterogeneous material from example_blends/materials/ (make_materials.py), by relative path."""
+    material = translucent(name, "MARBLE", mm_per_unit, roughness, specular)
+    material.subsplat.source = "SUBEDIT_FILE"
+    material.subsplat.subedit_path = f"//materials/{file}.exr"
+    return material
+
+
+def heterogeneous():
+    """Heterogeneous SubEdit materials (make_materials.py): a veined marble sphere, a candle of milky
+    and clear wax bands (short and long scattering side by side), a cloudy jade monkey, on a
+    marble chessboard slab."""
+    scene = reset()
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.7, location=(-1.1, 0.4, -0.3), segments=64, ring_count=32)
+    bpy.ops.object.shade_smooth()
+    bpy.context.object.name = "VeinedMarble"
+    bpy.context.object.data.materials.append(subedit("VeinedMarble", "veined_marble", mm_per_unit=150.0,
+                                                     roughness=0.2, specular=0.5))
+    bpy.ops.mesh.primitive_cylinder_add(radius=0.4, depth=1.6, location=(0.9, 0.6, -0.2), vertices=64)
+    bpy.ops.object.shade_smooth()
+    candle = bpy.context.object
+    candle.name = "BandedWax"
+    candle.data.use_auto_smooth = True
+    candle.data.auto_smooth_angle = math.radians(30)
+    candle.data.materials.append(subedit("BandedWax", "varying_wax", mm_per_unit=60.0, roughness=0.4))
+    bpy.ops.mesh.primitive_monkey_add(size=0.9, location=(0.0, -0.6, -0.55))
+    monkey = bpy.context.object
+    monkey.name = "CloudyJade"
+    monkey.rotation_euler = (0.0, 0.0, math.radians(-15))
+    modifier = monkey.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels = modifier.render_levels = 1
+    bpy.ops.object.shade_smooth()
+    monkey.data.materials.append(subedit("CloudyJade", "jade", mm_per_unit=40.0, roughness=0.15, specular=0.6))
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0, 0, -1.1))
+    slab = bpy.context.object
+    slab.name = "ChessboardSlab"
+    slab.scale = (4.0, 3.0, 0.2)
+    slab.data.materials.append(subedit("MarbleChessboard", "marble_chessboard", mm_per_unit=200.0))
+    camera((0.0, -5.5, 1.6), (0, 0, -0.5))
+    light("SPOT", (1.5, 3.5, 2.0), energy=1800.0, spot_size=math.radians(55), spot_blend=0.3,
+          color=(1.0, 0.93, 0.85), shadow_soft_size=0.0)
+    light("SUN", (-3, -2, 3), energy=2.0, color=(0.8, 0.85, 1.0), angle=0.0)
+    return scene
+
+
+EXAMPLES = {"skin_suzanne": skin_suzanne, "marble_pieces": marble_pieces, "wax_jade": wax_jade,
+            "heterogeneous": heterogeneous}
 
 
 def main():
+    only = [a for a in sys.argv[sys.argv.index("--") + 1:]] if "--" in sys.argv else list(EXAMPLES)
     for name, build in EXAMPLES.items():
+        if name not in only:
+            continue
         build()
         path = os.path.join(HERE, f"{name}.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)

@@ -19,3 +19,7 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)"
+
+# The example SubEdit materials (example_blends/make_materials.py), made where missing.
+BLENDER_USER_SCRIPTS="$PWD/build/scripts" blender -b --factory-startup --addons subsplat \
+  --python example_blends/make_materials.py -- --missing

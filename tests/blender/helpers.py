@@ -128,11 +128,12 @@ def write_difference(name, ours, reference):
     rgba = np.stack([t, 1 - np.abs(2 * t - 1), 1 - t, np.ones_like(t)], axis=-1).astype(np.float32)
     image = bpy.data.images.new(name, ours.shape[1], ours.shape[0], float_buffer=False)
     image.pixels.foreach_set(rgba.ravel())
-    image.filepath_raw = os.path.join(OUTPUT, name + "_difference.png")
+    path = os.path.join(OUTPUT, name + "_difference.png")
+    image.filepath_raw = path
     image.file_format = "PNG"
     image.save()
     bpy.data.images.remove(image)
-    return image.filepath_raw
+    return path
 
 
 def blender_command(*args):

@@ -283,6 +283,10 @@ ProfileSet build(const Distinct& d, int width, int height, int segments, double 
           "profile-fit tolerance must be in [1e-6, 1], got " + std::to_string(tolerance));
   size_t stride = size_t(segments + 1) * 3;
 
+  // The tolerance is shared: half for clustering, half for fewer segments, so
+  // that the model's error (their sum, reported) stays within it.
+  double half = 0.5 * tolerance;
+
   // 1. Palette: the distinct profiles, or the fewest clusters that fit.
   Fit fit;
   if (d.size() <= size_t(ProfileSet::kMaxProfiles)) {
@@ -297,7 +301,7 @@ ProfileSet build(const Distinct& d, int width, int height, int segments, double 
       std::vector<uint32_t> groups = cluster(d, f, k);
       size_t used = size_t(*std::max_element(groups.begin(), groups.end())) + 1;
       fit = paletteOf(d, std::move(groups), used, segments, radiusMm);
-      if (fit.meanError <= tolerance || k == ProfileSet::kMaxProfiles) break;
+      if (fit.meanError <= half || k == ProfileSet::kMaxProfiles) break;
     }
   }
   // Most common first: entry 0 is what a mesh without UVs gets.
@@ -314,12 +318,12 @@ ProfileSet build(const Distinct& d, int width, int height, int segments, double 
   for (int n : kCandidates) {
     if (n >= segments) break;
     double worst = 0.0;
-    for (size_t g = 0; g < groups && worst <= tolerance; ++g) {
+    for (size_t g = 0; g < groups && worst <= half; ++g) {
       const float* p = fit.palette.data() + g * stride;
       std::vector<float> q = resample(p, segments, radiusMm, n);
       worst = std::max(worst, profileError(p, segments, q.data(), n, radiusMm, 4));
     }
-    if (worst <= tolerance) {
+    if (worst <= half) {
       chosen = n;
       segmentError = worst;
       break;
