@@ -143,44 +143,47 @@ class SubEditFiles(unittest.TestCase):
         self.assertGreater(relative_difference(marble, board), 0.05, "not all marble")
         self.assertGreater(relative_difference(skin, board), 0.05, "not all skin")
 
-    def test_chessboard_full_matches_reference_like_brute(self):
-        """Marble and skin squares on a slab under a sun: FULL's exitance against REFERENCE within
-        1.5x BRUTE's error (the multires bound): multiresolution splatting adds nothing at the
-        material discontinuity. The error along the board's lines (band) against elsewhere is
-        printed: the sqrt(K_i K_o) pair kernel (docs/HETEROGENEOUS.md) makes it larger there for
-        BRUTE and FULL alike; issue 5's 2x bound on it is not met yet."""
+    def test_chessboard_against_reference_and_its_lines(self):
+        """Marble and skin squares on a slab under a sun, against REFERENCE. FULL (3 levels) stays
+        within 1.5x BRUTE's error, over the image and in a band along the board's lines. The
+        lines are as sharp as the irradiance buffer: the error in the band falls as its texels
+        shrink (docs/HETEROGENEOUS.md has the figures; issue 5 asks for the band's error to be
+        at most 2x the error elsewhere, which 1024^2 texels at 96 pixels come near, 3.2x)."""
         import accuracy
         chessboard_file(self.path("subedit_slab_board.exr"), squares=8)
         scene = helpers.empty_scene(96, 96)
         scene.render.engine = "SUBSPLAT"
-        scene.subsplat.irradiance_resolution = 256
-        material = translucent("SlabBoard", mm_per_unit=400.0)
+        material = translucent("SlabBoard", mm_per_unit=60.0)
         material.subsplat.source = "SUBEDIT_FILE"
         material.subsplat.subedit_path = self.path("subedit_slab_board.exr")
-        helpers.plane(scene, 4.0, material)
-        bpy.context.scene.objects["Plane"].data.uv_layers.new(name="UVMap")  # from_pydata: (0,0) everywhere
-        uvs = bpy.context.scene.objects["Plane"].data.uv_layers["UVMap"].data
-        for corner, uv in zip(uvs, [(0, 0), (1, 0), (1, 1), (0, 1)]):
+        plane = helpers.plane(scene, 4.0, material)
+        plane.data.uv_layers.new(name="UVMap")
+        for corner, uv in zip(plane.data.uv_layers["UVMap"].data, [(0, 0), (1, 0), (1, 1), (0, 1)]):
             corner.uv = uv
         helpers.top_down_camera(scene, ortho_scale=2.0)  # the middle 4 x 4 squares, 24 px each
         helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
         _, truth, _ = accuracy.render_passes(scene, "REFERENCE", 400000)
-        errors = {}
-        for method in ("BRUTE", "FULL"):
-            _, exitance, _ = accuracy.render_passes(scene, method)
-            error = np.abs(exitance[..., :3] - truth[..., :3]).mean(axis=-1) / max(float(truth[..., :3].mean()), 1e-12)
-            errors[method] = error
-            helpers.write_difference(f"subedit_board_{method.lower()}", exitance, truth)
-        # Pixels within 3 px of a square's edge (24 px squares, aligned with the image).
-        coordinate = np.arange(96) % 24
-        near = (np.minimum(coordinate, 24 - coordinate) < 3)
+        coordinate = np.arange(96) % 24  # pixels within 3 px of a square's edge
+        near = np.minimum(coordinate, 24 - coordinate) < 3
         band = near[:, None] | near[None, :]
-        brute, full = float(errors["BRUTE"].mean()), float(errors["FULL"].mean())
-        band_error, elsewhere = float(errors["FULL"][band].mean()), float(errors["FULL"][~band].mean())
-        print(f"chessboard slab: mean relative error BRUTE {brute:.4f}, FULL {full:.4f}; "
-              f"FULL along the lines {band_error:.4f}, elsewhere {elsewhere:.4f}")
-        self.assertLess(full, 1.5 * brute + 1e-3)
-        self.assertLess(float(errors["FULL"][band].mean()), 1.5 * float(errors["BRUTE"][band].mean()) + 1e-3)
+        band_errors = {}
+        for resolution in (256, 1024):
+            scene.subsplat.irradiance_resolution = resolution
+            errors = {}
+            for method, levels in (("BRUTE", 0), ("FULL", 3)):
+                scene.subsplat.levels = levels
+                _, exitance, _ = accuracy.render_passes(scene, method)
+                error = np.abs(exitance[..., :3] - truth[..., :3]).mean(axis=-1) / float(truth[..., :3].mean())
+                errors[method] = (float(error.mean()), float(error[band].mean()), float(error[~band].mean()))
+                helpers.write_difference(f"subedit_board_{resolution}_{method.lower()}", exitance, truth)
+                print(f"chessboard slab, {resolution}^2 irradiance, {method}: mean relative error "
+                      f"{errors[method][0]:.4f}; along the lines {errors[method][1]:.4f}, elsewhere "
+                      f"{errors[method][2]:.4f} ({errors[method][1] / errors[method][2]:.1f}x)")
+            with self.subTest(resolution=resolution):
+                self.assertLess(errors["FULL"][0], 1.5 * errors["BRUTE"][0] + 1e-3)
+                self.assertLess(errors["FULL"][1], 1.5 * errors["BRUTE"][1] + 1e-3)
+            band_errors[resolution] = errors["FULL"][1]
+        self.assertLess(band_errors[1024], 0.5 * band_errors[256], "finer irradiance texels, sharper lines")
 
     def test_a_mesh_without_uvs_renders_and_warns(self):
         chessboard_file(self.path("subedit_no_uvs.exr"))
