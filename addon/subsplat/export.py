@@ -4,7 +4,7 @@ import os
 import bpy
 import numpy as np
 
-from . import native
+from . import native, principled
 
 BLENDER_4 = bpy.app.version >= (4, 0, 0)
 # Principled BSDF inputs that were renamed in 4.0.
@@ -59,11 +59,50 @@ def subedit_file_profiles(material):
     return profiles
 
 
+# Profile sets made from Principled BSDFs, by material: (inputs key, ProfileSet).
+_principled_sets = {}
+
+
+def principled_profiles(material, warnings=None):
+    """The ProfileSet of a PRINCIPLED material, made again only when its inputs changed."""
+    settings = material.subsplat
+    node = _principled(material)
+    if node is None:
+        raise ExportError(f"material '{material.name}': the Principled BSDF source needs a Principled BSDF node")
+    try:
+        sigma_a, sigma_s, notes, key = principled.read(material, node, settings.mm_per_unit, settings.eta)
+    except principled.PrincipledError as error:
+        raise ExportError(str(error)) from None
+    if warnings is not None:
+        warnings.extend(notes)
+    key = (key, settings.fit_tolerance, settings.mm_per_unit)
+    cached = _principled_sets.get(material.name_full)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    try:
+        profiles = native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance)
+    except native.SubsplatError as error:
+        raise ExportError(f"material '{material.name}': {error}") from None
+    _principled_sets[material.name_full] = (key, profiles)
+    return profiles
+
+
+def source_profiles(material, warnings=None):
+    """The ProfileSet of a SUBEDIT_FILE or PRINCIPLED material (None for DIPOLE)."""
+    source = material.subsplat.source
+    if source == "SUBEDIT_FILE":
+        return subedit_file_profiles(material)
+    if source == "PRINCIPLED":
+        return principled_profiles(material, warnings)
+    return None
+
+
 def material_profiles(material):
     """A translucent material as a ProfileSet, whatever its source (what Bake SubEdit Material writes)."""
     settings = material.subsplat
-    if settings.source == "SUBEDIT_FILE":
-        return subedit_file_profiles(material)
+    profiles = source_profiles(material)
+    if profiles is not None:
+        return profiles
     sigma_a = np.array(settings.sigma_a, dtype=np.float32).reshape(1, 1, 3)
     sigma_s_prime = np.array(settings.sigma_s_prime, dtype=np.float32).reshape(1, 1, 3)
     try:
@@ -72,10 +111,11 @@ def material_profiles(material):
         raise ExportError(f"material '{material.name}': {error}") from None
 
 
-def material_desc(material):
+def material_desc(material, warnings=None):
     """The native description of a Blender material (None: the default grey).
 
-    A SUBEDIT desc points at a ProfileSet that the module's file cache keeps alive.
+    A SUBEDIT desc points at a ProfileSet that this module's caches keep alive. Warnings about the
+    material (inputs that are not read) are appended to `warnings`.
     """
     desc = native.MaterialDesc()
     if material is None:
@@ -92,9 +132,10 @@ def material_desc(material):
         desc.mm_per_unit = settings.mm_per_unit
         desc.roughness = settings.roughness
         desc.specular = settings.specular
-        if settings.source == "SUBEDIT_FILE":
+        profiles = source_profiles(material, warnings)
+        if profiles is not None:
             desc.kind = native.MATERIAL_SUBEDIT
-            desc.profiles = subedit_file_profiles(material).handle
+            desc.profiles = profiles.handle
         return desc
     desc.kind = native.MATERIAL_OPAQUE
     node = _principled(material)
@@ -161,12 +202,12 @@ class Frame:
         key = material.name_full if material is not None else ""
         if key not in self.materials:
             try:
-                desc = material_desc(material)
+                desc = material_desc(material, self.warnings)
             except (KeyError, AttributeError) as error:
                 raise ExportError(f"material '{key}': cannot read its settings ({error})") from error
             self.materials[key] = (len(self.materials), desc)
             if desc.kind == native.MATERIAL_SUBEDIT:
-                profiles = subedit_file_profiles(material)
+                profiles = source_profiles(material)
                 self.profile_sets.append(profiles)
                 if profiles.info()["profiles"] > 1:
                     self.mapped.add(key)

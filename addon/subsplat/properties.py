@@ -93,7 +93,11 @@ class SubsplatMaterialSettings(bpy.types.PropertyGroup):
         ("DIPOLE", "Dipole", "Homogeneous material from absorption and reduced scattering coefficients"),
         ("SUBEDIT_FILE", "SubEdit File",
          "Heterogeneous material: a scattering profile per texel, mapped by the UV map used for rendering, "
-         "from a SubEdit file (OpenEXR; docs/SUBEDIT_FILE.md)")])
+         "from a SubEdit file (OpenEXR; docs/SUBEDIT_FILE.md)"),
+        ("PRINCIPLED", "Principled BSDF",
+         "From the material's Principled BSDF: subsurface colour as the diffuse albedo and subsurface radius "
+         "(scene units) as the mean free path; image textures connected to them vary it per texel "
+         "(docs/PRINCIPLED.md)")])
     subedit_path: StringProperty(
         name="File", default="", subtype="FILE_PATH",
         description="SubEdit material file (OpenEXR with channels P0.R ... Pn.B holding ln P per texel); "

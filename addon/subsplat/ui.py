@@ -61,6 +61,8 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
         if settings.source == "SUBEDIT_FILE":
             layout.prop(settings, "subedit_path")
             layout.prop(settings, "fit_tolerance")
+        elif settings.source == "PRINCIPLED":
+            layout.prop(settings, "fit_tolerance")
         else:
             layout.prop(settings, "preset")
             layout.prop(settings, "sigma_a")
@@ -71,19 +73,23 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
         layout.prop(settings, "specular")
         if not settings.enabled:
             return
+        warnings = []
         try:
-            info = native.profile_info(export.material_desc(context.material))
-            profiles = export.subedit_file_profiles(context.material).info() \
-                if settings.source == "SUBEDIT_FILE" else None
+            info = native.profile_info(export.material_desc(context.material, warnings))
+            profiles = export.source_profiles(context.material)
+            profiles = profiles.info() if profiles is not None else None
         except (native.SubsplatError, export.ExportError) as error:
             for line in _wrap(str(error)):
                 layout.label(text=line, icon="ERROR")
             return
+        for warning in warnings:
+            for line in _wrap(warning):
+                layout.label(text=line, icon="ERROR")
         col = layout.column(align=True)
         if profiles is not None:
             unit = settings.mm_per_unit
             col.label(text=f"Model: {profiles['profiles']} profile(s) of {profiles['segments']} segments "
-                           f"(file: {profiles['source_profiles']} of {profiles['source_segments']})")
+                           f"(source: {profiles['source_profiles']} of {profiles['source_segments']})")
             col.label(text=f"Map: {profiles['width']} x {profiles['height']} texels, "
                            f"GPU memory {profiles['gpu_bytes'] / 2 ** 20:.1f} MiB")
             icon = "ERROR" if profiles["fit_error"] > settings.fit_tolerance else "NONE"

@@ -1,0 +1,132 @@
+"""Translucency from a Principled BSDF (material.subsplat.source == 'PRINCIPLED'), docs/PRINCIPLED.md.
+
+The BSDF's subsurface colour is read as the diffuse albedo, the total diffuse reflectance Rd_total of
+a dipole, and its radius as the diffuse mean free path 1 / sigma_tr per channel (Jensen et al.
+2001). Inverting Rd_total(alpha') per channel gives the reduced albedo alpha'; then
+
+    sigma_t' = sigma_tr / sqrt(3 (1 - alpha')),  sigma_s' = alpha' sigma_t',  sigma_a = sigma_t' - sigma_s'.
+
+Blender 3.x: Subsurface Color, radius = Subsurface Radius x Subsurface (the weight scales the
+radius, as in Cycles 3.x). Blender 4.x: Base Color, radius = Subsurface Radius x Subsurface Scale.
+An Image Texture node connected straight to the colour or radius input gives a value per texel;
+any other link is not read: the socket's own value is used and a warning says so.
+"""
+import hashlib
+
+import bpy
+import numpy as np
+
+BLENDER_4 = bpy.app.version >= (4, 0, 0)
+COLOR_INPUT = "Base Color" if BLENDER_4 else "Subsurface Color"
+RADIUS_INPUT = "Subsurface Radius"
+SCALE_INPUT = "Subsurface Scale" if BLENDER_4 else "Subsurface"
+MAX_SIDE = 512          # texels per side read from an image (larger images are sampled down)
+MAX_REDUCED_ALBEDO = 0.99999  # albedo 1 would mean no absorption, which the dipole cannot have
+
+
+class PrincipledError(ValueError):
+    """Inputs the conversion cannot use; the message names the socket and the value."""
+
+
+def dipole_total_reflectance(reduced_albedo, eta):
+    """Rd_total(alpha') of Jensen et al. 2001 (DESIGN.md), elementwise."""
+    fdr = -1.440 / eta ** 2 + 0.710 / eta + 0.668 + 0.0636 * eta
+    big_a = (1 + fdr) / (1 - fdr)
+    root = np.sqrt(3 * (1 - reduced_albedo))
+    return reduced_albedo / 2 * (1 + np.exp(-4 / 3 * big_a * root)) * np.exp(-root)
+
+
+def reduced_albedo(total_reflectance, eta):
+    """The alpha' whose Rd_total is the given albedo (bisection; Rd_total rises with alpha')."""
+    target = np.asarray(total_reflectance, dtype=np.float64)
+    lo, hi = np.zeros_like(target), np.full_like(target, MAX_REDUCED_ALBEDO)
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        below = dipole_total_reflectance(mid, eta) < target
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+def coefficients(albedo, mean_free_path_mm, eta):
+    """sigma_a and sigma_s' per mm from albedo (Rd_total) and mean free path 1/sigma_tr in mm."""
+    alpha = reduced_albedo(np.clip(albedo, 0.0, 1.0), eta)
+    sigma_tr = 1.0 / np.asarray(mean_free_path_mm, dtype=np.float64)
+    sigma_t = sigma_tr / np.sqrt(3.0 * (1.0 - alpha))
+    sigma_s = alpha * sigma_t
+    return (sigma_t - sigma_s).astype(np.float32), sigma_s.astype(np.float32)
+
+
+def albedo_and_path(sigma_a, sigma_s_prime, eta):
+    """The inverse: the albedo and mean free path (mm) a dipole has; for building test materials."""
+    sigma_a, sigma_s_prime = np.asarray(sigma_a, float), np.asarray(sigma_s_prime, float)
+    sigma_t = sigma_a + sigma_s_prime
+    return dipole_total_reflectance(sigma_s_prime / sigma_t, eta), 1.0 / np.sqrt(3 * sigma_a * sigma_t)
+
+
+def _image_values(image, linear_colour):
+    """An image's RGB as a (height, width, 3) float array, row 0 at v = 0, at most MAX_SIDE per side."""
+    width, height = image.size
+    if width == 0 or height == 0:
+        raise PrincipledError(f"image '{image.name}' has no pixels (is the file missing?)")
+    pixels = np.empty(width * height * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    rgb = pixels.reshape(height, width, 4)[..., :3]
+    step = max(1, -(-max(width, height) // MAX_SIDE))
+    rgb = rgb[::step, ::step]
+    if linear_colour and not image.is_float and image.colorspace_settings.name == "sRGB":
+        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    return np.ascontiguousarray(rgb, dtype=np.float32)
+
+
+def _socket_map(material, socket, linear_colour, warnings):
+    """A socket's value: (height, width, 3) from a directly connected image, else its value (1, 1, 3)."""
+    if socket.is_linked:
+        node = socket.links[0].from_node
+        if node.type == "TEX_IMAGE" and node.image is not None:
+            return _image_values(node.image, linear_colour), node.image
+        warnings.append(f"material '{material.name}': {socket.name} is connected to a {node.bl_label} node, "
+                        "which SubSplat does not read; using the socket's own value")
+    return np.asarray(socket.default_value[:3], dtype=np.float32).reshape(1, 1, 3), None
+
+
+def _resample(values, shape):
+    """Nearest-texel resampling of (h, w, 3) to shape (H, W)."""
+    h, w = values.shape[:2]
+    rows = (np.arange(shape[0]) * h // shape[0]).astype(int)
+    cols = (np.arange(shape[1]) * w // shape[1]).astype(int)
+    return values[rows][:, cols]
+
+
+def read(material, node, mm_per_unit, eta):
+    """Per-texel dipole coefficients of a Principled BSDF: (sigma_a, sigma_s_prime, warnings, key),
+    both (height, width, 3) per mm; key identifies the inputs, for caching."""
+    warnings = []
+    colour, colour_image = _socket_map(material, node.inputs[COLOR_INPUT], True, warnings)
+    radius, radius_image = _socket_map(material, node.inputs[RADIUS_INPUT], False, warnings)
+    scale_socket = node.inputs[SCALE_INPUT]
+    if scale_socket.is_linked:
+        warnings.append(f"material '{material.name}': {scale_socket.name} is connected to a node, which "
+                        "SubSplat does not read; using the socket's own value")
+    scale = float(scale_socket.default_value)
+    if not np.all(np.isfinite(colour)) or colour.min() < 0.0 or colour.max() > 1.0:
+        bad = colour.reshape(-1, 3)[np.flatnonzero(~((colour >= 0) & (colour <= 1)).all(axis=-1).ravel())[0]]
+        raise PrincipledError(f"material '{material.name}': {COLOR_INPUT} must be in [0, 1] (the diffuse albedo), "
+                              f"got {tuple(round(float(v), 4) for v in bad)}")
+    path = radius * scale
+    if not np.all(np.isfinite(path)) or path.min() <= 0.0:
+        raise PrincipledError(f"material '{material.name}': the scattering radius ({RADIUS_INPUT} x "
+                              f"{SCALE_INPUT} = {tuple(round(float(v), 6) for v in path.reshape(-1, 3).min(axis=0))}) "
+                              "must be positive in every channel")
+    shape = max(colour.shape[:2], radius.shape[:2])
+    colour = _resample(colour, shape) if colour.shape[:2] != shape else colour
+    path = _resample(path, shape) if path.shape[:2] != shape else path
+    path_mm = path * mm_per_unit
+    if colour_image is not None:  # 8-bit steps: image noise below what an image holds is not worth a profile
+        colour = np.round(colour * 255.0) / 255.0
+    if radius_image is not None:  # steps of 0.4 %
+        path_mm = np.exp(np.round(np.log(path_mm) * 256.0) / 256.0)
+    sigma_a, sigma_s = coefficients(colour, path_mm, eta)
+    digest = hashlib.blake2b(colour.tobytes() + path_mm.tobytes(), digest_size=16).hexdigest()
+    key = (digest, eta, shape, colour_image.name if colour_image else None,
+           radius_image.name if radius_image else None)
+    return sigma_a, sigma_s, warnings, key
