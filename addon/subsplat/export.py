@@ -4,7 +4,7 @@ import os
 import bpy
 import numpy as np
 
-from . import native, principled
+from . import artist, native, principled
 
 BLENDER_4 = bpy.app.version >= (4, 0, 0)
 # Principled BSDF inputs that were renamed in 4.0.
@@ -87,13 +87,44 @@ def principled_profiles(material, warnings=None):
     return profiles
 
 
+# Profile sets of the artist model, by material: (inputs key, ProfileSet).
+_artist_sets = {}
+
+
+def artist_profiles(material):
+    """The ProfileSet of an ARTIST material, made again only when its inputs changed."""
+    import hashlib
+    settings = material.subsplat
+    try:
+        if settings.albedo_image is not None:
+            albedo = principled._image_values(settings.albedo_image, linear_colour=True)
+        else:
+            albedo = np.asarray(settings.albedo_color, dtype=np.float32).reshape(1, 1, 3)
+        log_profiles, radius_mm = artist.profiles(material, settings.mm_per_unit, albedo)
+    except (artist.ArtistError, principled.PrincipledError) as error:
+        raise ExportError(str(error) if str(error).startswith("material") else
+                          f"material '{material.name}': {error}") from None
+    key = (hashlib.blake2b(log_profiles.tobytes(), digest_size=16).hexdigest(), radius_mm, settings.fit_tolerance)
+    cached = _artist_sets.get(material.name_full)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    try:
+        profiles = native.ProfileSet.from_profiles(log_profiles, radius_mm, settings.fit_tolerance)
+    except native.SubsplatError as error:
+        raise ExportError(f"material '{material.name}': {error}") from None
+    _artist_sets[material.name_full] = (key, profiles)
+    return profiles
+
+
 def source_profiles(material, warnings=None):
-    """The ProfileSet of a SUBEDIT_FILE or PRINCIPLED material (None for DIPOLE)."""
+    """The ProfileSet of a SUBEDIT_FILE, PRINCIPLED or ARTIST material (None for DIPOLE)."""
     source = material.subsplat.source
     if source == "SUBEDIT_FILE":
         return subedit_file_profiles(material)
     if source == "PRINCIPLED":
         return principled_profiles(material, warnings)
+    if source == "ARTIST":
+        return artist_profiles(material)
     return None
 
 

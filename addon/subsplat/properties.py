@@ -97,7 +97,24 @@ class SubsplatMaterialSettings(bpy.types.PropertyGroup):
         ("PRINCIPLED", "Principled BSDF",
          "From the material's Principled BSDF: subsurface colour as the diffuse albedo and subsurface radius "
          "(scene units) as the mean free path; image textures connected to them vary it per texel "
-         "(docs/PRINCIPLED.md)")])
+         "(docs/PRINCIPLED.md)"),
+        ("ARTIST", "Artist",
+         "A radius of influence and a translucency image (the light carried over distance / radius), with "
+         "an albedo colour or image applied at entry and exit (docs/ARTIST.md)")])
+    artist_radius: FloatProperty(
+        name="Radius of Influence", default=0.1, min=0.0, soft_min=1e-4, soft_max=10.0, precision=4, subtype="DISTANCE",
+        description="Artist: how far light travels under the surface, in scene units (the translucency image "
+                    "spans 0 to this distance)")
+    translucency_image: PointerProperty(
+        name="Translucency", type=bpy.types.Image,
+        description="Artist: a 1D image (its middle row) of the light carried from a point to another at "
+                    "distance / radius from 0 (left) to 1 (right), per colour; only its shape matters")
+    albedo_color: FloatVectorProperty(
+        name="Albedo", size=3, subtype="COLOR", default=(0.8, 0.8, 0.8), min=0.0, max=1.0,
+        description="Artist: how much of the light entering comes back out, per colour")
+    albedo_image: PointerProperty(
+        name="Albedo Image", type=bpy.types.Image,
+        description="Artist: the albedo per texel, by the render UV map (replaces the colour)")
     subedit_path: StringProperty(
         name="File", default="", subtype="FILE_PATH",
         description="SubEdit material file (OpenEXR with channels P0.R ... Pn.B holding ln P per texel); "

@@ -63,6 +63,12 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "fit_tolerance")
         elif settings.source == "PRINCIPLED":
             layout.prop(settings, "fit_tolerance")
+        elif settings.source == "ARTIST":
+            layout.prop(settings, "artist_radius")
+            layout.template_ID(settings, "translucency_image", new="image.new", open="image.open")
+            layout.prop(settings, "albedo_color")
+            layout.template_ID(settings, "albedo_image", new="image.new", open="image.open")
+            layout.prop(settings, "fit_tolerance")
         else:
             layout.prop(settings, "preset")
             layout.prop(settings, "sigma_a")
