@@ -156,6 +156,26 @@ def failed_batch_render(name):
     return result.returncode, result.stdout + result.stderr
 
 
+def assert_batch_render_fails(test, name, *expected):
+    """Renders the current file with `blender -b` (failed_batch_render) and checks it exits with
+    status 1 (a reported failure, not a crash) and prints every expected text."""
+    status, output = failed_batch_render(name)
+    test.assertEqual(status, 1, output[-3000:])
+    for text in expected:
+        test.assertIn(text, output)
+
+
+def one_of_two(image, first, second, tolerance=0.05):
+    """Of the lit pixels of `image`, (the share within `tolerance` of `first` or of `second`, the share
+    closer to `first`): how far an image is a patchwork of two others (lit: above 5 % of first's peak)."""
+    lit = (image[..., 3] > 0) & (first[..., :3].max(axis=-1) > 0.05 * first[..., :3].max())
+
+    def off(other):
+        return np.abs(image - other)[..., :3].max(axis=-1)[lit] / np.maximum(other[..., :3].max(axis=-1)[lit], 1e-9)
+    off_first, off_second = off(first), off(second)
+    return float((np.minimum(off_first, off_second) < tolerance).mean()), float((off_first < off_second).mean())
+
+
 def run_tests(test_case_module_name="__main__"):
     import unittest
     suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[test_case_module_name])
