@@ -26,7 +26,8 @@ LEVELS = 3  # the paper's benchmark setting; FULL:0 adds the product default (au
 
 
 def scattering_ranges(scene):
-    """R_P over the bounding-sphere radius of each translucent object (min over channels, max)."""
+    """R_P over the bounding-sphere radius of each translucent object (min over channels and a
+    heterogeneous material's profiles, max)."""
     from mathutils import Vector
     from subsplat import export, native
     lo, hi = float("inf"), 0.0
@@ -39,7 +40,10 @@ def scattering_ranges(scene):
         for slot in obj.material_slots:
             if slot.material is None or not slot.material.subsplat.enabled:
                 continue
-            ranges = native.profile_info(export.material_desc(slot.material)).effective_range
+            ranges = list(native.profile_info(export.material_desc(slot.material)).effective_range)
+            profiles = export.source_profiles(slot.material)
+            if profiles is not None:  # heterogeneous: every profile of the palette
+                ranges += [r / slot.material.subsplat.mm_per_unit for r in profiles.info()["effective_range_mm"]]
             lo, hi = min(lo, min(ranges) / radius), max(hi, max(ranges) / radius)
     return lo, hi
 

@@ -168,12 +168,14 @@ def subedit(name, file, mm_per_unit, roughness=0.3, specular=0.4):
 def heterogeneous():
     """Heterogeneous SubEdit materials (make_materials.py): a veined marble sphere, a candle of milky
     and clear wax bands (short and long scattering side by side), a cloudy jade monkey, on a
-    marble chessboard slab."""
+    marble chessboard slab. R_P over each object's bounding radius (half its box diagonal): marble
+    0.04-0.13, wax 0.02-0.35, jade 0.08-0.32, the mix of the paper's Table 1 (0.04-0.35); the slab,
+    a floor, 0.006-0.018."""
     scene = reset()
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.7, location=(-1.1, 0.4, -0.3), segments=64, ring_count=32)
     bpy.ops.object.shade_smooth()
     bpy.context.object.name = "VeinedMarble"
-    bpy.context.object.data.materials.append(subedit("VeinedMarble", "veined_marble", mm_per_unit=150.0,
+    bpy.context.object.data.materials.append(subedit("VeinedMarble", "veined_marble", mm_per_unit=60.0,
                                                      roughness=0.2, specular=0.5))
     bpy.ops.mesh.primitive_cylinder_add(radius=0.4, depth=1.6, location=(0.9, 0.6, -0.2), vertices=64)
     bpy.ops.object.shade_smooth()
@@ -181,7 +183,7 @@ def heterogeneous():
     candle.name = "BandedWax"
     candle.data.use_auto_smooth = True
     candle.data.auto_smooth_angle = math.radians(30)
-    candle.data.materials.append(subedit("BandedWax", "varying_wax", mm_per_unit=60.0, roughness=0.4))
+    candle.data.materials.append(subedit("BandedWax", "varying_wax", mm_per_unit=310.0, roughness=0.4))
     bpy.ops.mesh.primitive_monkey_add(size=0.9, location=(0.0, -0.6, -0.55))
     monkey = bpy.context.object
     monkey.name = "CloudyJade"
