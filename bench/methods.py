@@ -18,6 +18,7 @@ import bpy
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+from ranges import object_ranges  # noqa: E402
 import replay  # noqa: E402
 
 COMMAND = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
@@ -26,26 +27,9 @@ LEVELS = 3  # the paper's benchmark setting; FULL:0 adds the product default (au
 
 
 def scattering_ranges(scene):
-    """R_P over the bounding-sphere radius of each translucent object (min over channels and a
-    heterogeneous material's profiles, max)."""
-    from mathutils import Vector
-    from subsplat import export, native
-    lo, hi = float("inf"), 0.0
-    for obj in scene.objects:
-        if obj.type != "MESH":
-            continue
-        corners = [obj.matrix_world @ Vector(c) for c in obj.bound_box]
-        centre = sum(corners, Vector()) / 8
-        radius = max((c - centre).length for c in corners)
-        for slot in obj.material_slots:
-            if slot.material is None or not slot.material.subsplat.enabled:
-                continue
-            ranges = list(native.profile_info(export.material_desc(slot.material)).effective_range)
-            profiles = export.source_profiles(slot.material)
-            if profiles is not None:  # heterogeneous: every profile of the palette
-                ranges += [r / slot.material.subsplat.mm_per_unit for r in profiles.info()["effective_range_mm"]]
-            lo, hi = min(lo, min(ranges) / radius), max(hi, max(ranges) / radius)
-    return lo, hi
+    """R_P over the bounding-sphere radius, shortest and longest over the translucent objects."""
+    spans = object_ranges(scene).values()
+    return min((lo for lo, _ in spans), default=float("inf")), max((hi for _, hi in spans), default=0.0)
 
 
 def export(path, directory):
