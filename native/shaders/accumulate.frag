@@ -11,6 +11,15 @@ uniform vec3 cameraForward;
 uniform float lambdaZ, lambdaM;
 uniform float boundingDiameter;  // R_w
 layout(location = 0) out vec4 exitance;
+
+// Eq. 17's material weight, exp(-lambda_m |R_P(x_o) - R_P(x_j)|), with R_P
+// in millimetres, the unit the paper's profiles are measured in: a property of
+// the materials, whatever the scene's unit or size (docs/HETEROGENEOUS.md).
+float materialWeight(int a, int b) {
+  float ra = materials[a].ranges.y * materials[a].ranges.w, rb = materials[b].ranges.y * materials[b].ranges.w;
+  return exp(-lambdaM * abs(ra - rb));
+}
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 po = texelFetch(splattingPositionObject, p, fineLevel);
@@ -33,7 +42,7 @@ void main() {
     float wp = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
     float cz = dot(cpo.xyz - cameraPosition, cameraForward);
     float wz = exp(-lambdaZ * abs(z - cz) / boundingDiameter);
-    float wm = exp(-lambdaM * abs(materials[m].ranges.y - materials[cm].ranges.y) / boundingDiameter);
+    float wm = materialWeight(m, cm);
     float w = wp * wz * wm;
     sum += w * texelFetch(coarseExitance, c, 0).rgb;
     total += w;
@@ -50,8 +59,7 @@ void main() {
         int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
         if (!isTranslucent(cm)) continue;
         float cz = dot(cpo.xyz - cameraPosition, cameraForward);
-        float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) *
-                  exp(-lambdaM * abs(materials[m].ranges.y - materials[cm].ranges.y) / boundingDiameter);
+        float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) * materialWeight(m, cm);
         sum += w * texelFetch(coarseExitance, c, 0).rgb;
         total += w;
       }

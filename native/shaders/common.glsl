@@ -6,7 +6,7 @@ const float PI = 3.14159265358979;
 struct Material {
   vec4 baseColorKind;  // rgb diffuse albedo (opaque), w: 0 opaque, 1 translucent
   vec4 optics;         // eta, roughness, specular, kernel layer
-  vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), 0
+  vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), mm per scene unit
   uvec4 profileMap;    // heterogeneous: offset into profileMaps, width, height (0: none); the material's first entry
 };
 layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };

@@ -11,14 +11,42 @@ uniform int resolution;
 uniform float orthoTexelArea;   // sun: texel area perpendicular to the light
 uniform float tanHalfFov;       // point, spot: half-extent of the view plane at distance 1
 uniform float footprintSigma;   // x texel size
+uniform int profileSplits;      // non-zero: write profileSplit
 layout(location = 0) out vec4 positionMaterial;  // xyz, material (-1 opaque)
 layout(location = 1) out vec4 fluxFootprint;     // rgb flux (W), footprint sigma
 layout(location = 2) out vec4 normalObject;      // xyz, object index
 layout(location = 3) out float lightDepth;       // distance along the light's rays
+layout(location = 4) out vec4 profileSplit;      // pipeline/buffers.h: IrradianceBuffer::profileSplit
+
+// Where a profile boundary crosses the texel: the texel's 4 x 4 sub-samples
+// (from the UV and position derivatives) whose profile is another one than
+// the centre's. Returns the part's middle offset (world units) and, in w,
+// (its entry - base) * 32 + its count; w = 0 when the whole texel shows one
+// profile. A third profile in one texel counts as the centre's.
+vec4 splitOf(int base, int centre, vec2 du, vec2 dv, vec3 dx, vec3 dy) {
+  int other = -1, count = 0;
+  vec2 middle = vec2(0.0);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      vec2 s = (vec2(i, j) + 0.5) / 4.0 - 0.5;
+      int e = profileEntry(base, surfaceUv + s.x * du + s.y * dv, true);
+      if (e == centre || (other >= 0 && e != other)) continue;
+      other = e;
+      ++count;
+      middle += s;
+    }
+  if (count == 0) return vec4(0.0);
+  middle /= float(count);
+  return vec4(middle.x * dx + middle.y * dy, float((other - base) * 32 + count));
+}
+
 void main() {
-  int material = profileEntry(int(texelFetch(triangleMaterials, gl_PrimitiveID).r), surfaceUv, meshHasUvs != 0);
+  int base = int(texelFetch(triangleMaterials, gl_PrimitiveID).r);
+  int material = profileEntry(base, surfaceUv, meshHasUvs != 0);
+  vec2 du = dFdx(surfaceUv), dv = dFdy(surfaceUv);  // derivatives in uniform control flow
+  vec3 dx = dFdx(worldPosition), dy = dFdy(worldPosition);
   vec3 L = towardsLight(worldPosition);
-  vec3 geometric = normalize(cross(dFdx(worldPosition), dFdy(worldPosition)));
+  vec3 geometric = normalize(cross(dx, dy));
   vec3 n = normalize(worldNormal);
   if (dot(n, L) < 0.0) n = -n;  // two-sided, as Cycles
   float cosShading = dot(n, L);
@@ -52,4 +80,9 @@ void main() {
   // (isotropic) footprint follows the long axis so that it still tiles.
   fluxFootprint = vec4(flux, footprintSigma * sqrt(perpendicularArea) / cosGeometric);
   normalObject = vec4(n, objectIndex);
+  profileSplit = vec4(0.0);
+  if (profileSplits != 0 && material >= 0 && meshHasUvs != 0 && materials[base].profileMap.y * materials[base].profileMap.z > 1u) {
+    vec4 split = splitOf(base, material, du, dv, dx, dy);
+    profileSplit = vec4(split.xyz / max(fluxFootprint.a, 1e-30), split.w);
+  }
 }

@@ -9,6 +9,7 @@ in SplatSample {
   float object;
   int material;
   int level;
+  vec4 split;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

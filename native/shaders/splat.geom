@@ -1,7 +1,10 @@
 // A screen-space quad bounding the sphere of radius (footprint reach + support)
-// around the sample: every pixel the kernel can reach.
+// around the sample: every pixel the kernel can reach. A level-0 texel that a
+// profile boundary crosses (splat.vert's split) is two splats, one per
+// profile, each with its share of the flux and of the footprint's area, at the
+// centroid of its part: the boundary stays sharper than the texel.
 layout(points) in;
-layout(triangle_strip, max_vertices = 4) out;
+layout(triangle_strip, max_vertices = 8) out;
 in SplatSample {
   vec3 position;
   vec3 flux;
@@ -9,6 +12,7 @@ in SplatSample {
   float object;
   int material;
   int level;  // irradiance level the sample was selected at
+  vec4 split; // level 0: a second profile's part (splat.vert)
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
@@ -30,13 +34,10 @@ flat out vec3 splatFlux;
 flat out float splatFootprint;
 flat out float splatObject;
 flat out int splatMaterial;
-void main() {
-  int m = sampleIn[0].material;
-  if (m < 0 || !isTranslucent(m)) return;
-  vec3 flux = sampleIn[0].flux;
-  if (max(flux.r, max(flux.g, flux.b)) <= 0.0) return;
-  float reach = footprintReach * sampleIn[0].footprint + materials[m].ranges.x;
-  vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
+// One splat of material entry m at position with the flux and footprint sigma.
+void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
+  float reach = footprintReach * footprint + materials[m].ranges.x;
+  vec3 c = (worldToView * vec4(position, 1.0)).xyz;
   vec2 range = vec2(0.0, reach);
   if (splatLevels > 1) {
     float rangeP = materials[m].ranges.y;  // the longest channel's R_P, as the R-bar table
@@ -73,18 +74,39 @@ void main() {
   hi = min(hi, vec2(1.0));
   if (any(greaterThanEqual(lo, hi))) return;
 
-  float row = (log2(sampleIn[0].footprint / materials[m].ranges.x) - kernelLog2Range.x) /
+  float row = (log2(footprint / materials[m].ranges.x) - kernelLog2Range.x) /
               (kernelLog2Range.y - kernelLog2Range.x);
   for (int i = 0; i < 4; ++i) {
     splatKernelRow = clamp(row, 0.0, 1.0);
     splatRange = range;
-    splatPosition = sampleIn[0].position;
+    splatPosition = position;
     splatFlux = flux;
-    splatFootprint = sampleIn[0].footprint;
+    splatFootprint = footprint;
     splatObject = sampleIn[0].object;
     splatMaterial = m;
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 0.0, 1.0);
     EmitVertex();
   }
   EndPrimitive();
+}
+
+void main() {
+  int m = sampleIn[0].material;
+  if (m < 0 || !isTranslucent(m)) return;
+  vec3 flux = sampleIn[0].flux;
+  if (max(flux.r, max(flux.g, flux.b)) <= 0.0) return;
+  vec4 split = sampleIn[0].split;
+  int code = int(split.w + 0.5);
+  int count = code % 32;
+  if (count == 0) {
+    emitSplat(m, sampleIn[0].position, flux, sampleIn[0].footprint);
+    return;
+  }
+  // The parts' centroids average to the texel centre, weighted by their shares.
+  int other = int(materials[m].profileMap.w) + code / 32;
+  float share = float(count) / 16.0;
+  if (count < 16)
+    emitSplat(m, sampleIn[0].position - split.xyz * (share / (1.0 - share)), flux * (1.0 - share),
+              sampleIn[0].footprint * sqrt(1.0 - share));
+  emitSplat(other, sampleIn[0].position + split.xyz, flux * share, sampleIn[0].footprint * sqrt(share));
 }

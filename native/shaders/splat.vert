@@ -5,11 +5,14 @@
 // texel, projected onto the surface, is fine enough for the material,
 //   texel_k / |n.L| < R_P / alpha            (eq. 10, 11 with T^k = R_w / texel_k);
 // it is selected when no ancestor is valid and it is valid itself or at level 0.
+// A texel that shows two profiles (its split) must be fine enough for both.
 // Each level-0 texel is therefore covered by exactly one selected sample.
 uniform sampler2D irradiancePositionMaterial;
 uniform sampler2D irradianceFluxFootprint;
 uniform sampler2D irradianceNormalObject;
 uniform sampler2D irradianceDepthRange;  // levels >= 1
+uniform sampler2D irradianceProfileSplit;  // when profileSplits != 0 (pipeline/buffers.h)
+uniform int profileSplits;
 uniform int resolution;
 uniform int levels;              // 1: BRUTE
 uniform int levelOffset[9];      // first vertex of each level; levelOffset[levels] = total
@@ -25,6 +28,7 @@ out SplatSample {
   float object;
   int material;
   int level;  // irradiance level the sample was selected at
+  vec4 split; // xyz the offset of a second profile's part, w its entry * 32 + sixteenths (0: none)
 } sampleOut;
 
 bool valid(int level, ivec2 texel) {
@@ -36,7 +40,12 @@ bool valid(int level, ivec2 texel) {
   vec3 n = texelFetch(irradianceNormalObject, texel, level).xyz;
   float nl = max(abs(dot(n, towardsLight(pm.xyz))), 1e-3);  // grazing: finest level, never infinite
   float texel0 = lightType == 2 ? shadowTexelSize : shadowTexelSize * distance(pm.xyz, lightPosition);
-  return float(1 << level) * texel0 / nl < materials[m].ranges.z / alpha;
+  float rangeP = materials[m].ranges.z;
+  if (profileSplits != 0) {
+    int code = int(texelFetch(irradianceProfileSplit, texel, level).w + 0.5);
+    if (code % 32 != 0) rangeP = min(rangeP, materials[int(materials[m].profileMap.w) + code / 32].ranges.z);
+  }
+  return float(1 << level) * texel0 / nl < rangeP / alpha;
 }
 
 void main() {
@@ -47,6 +56,7 @@ void main() {
   ivec2 texel = ivec2(index % size, index / size);
   sampleOut.material = -1;
   sampleOut.level = level;
+  sampleOut.split = vec4(0.0);
   gl_Position = vec4(0.0);
   if (levels > 1) {
     for (int k = level + 1; k < levels; ++k)
@@ -62,4 +72,8 @@ void main() {
   sampleOut.flux = ff.rgb;
   sampleOut.footprint = ff.a;
   sampleOut.object = texelFetch(irradianceNormalObject, texel, level).w;
+  if (profileSplits != 0) {
+    vec4 split = texelFetch(irradianceProfileSplit, texel, level);
+    sampleOut.split = vec4(split.xyz * ff.a, split.w);
+  }
 }

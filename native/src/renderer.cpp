@@ -82,6 +82,7 @@ void Renderer::uploadMaterials() {
       g.ranges[0] = float(k.supportRadius());
       g.ranges[1] = float(std::max({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
       g.ranges[2] = float(std::min({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
+      g.ranges[3] = d.mm_per_unit;
     }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
@@ -183,7 +184,7 @@ void Renderer::render(int width, int height, float* rgba) {
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
   Levels chosen = chooseLevels(width, height, translucent, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
-  irradiance_.resize(settings_.irradiance_resolution, levels);
+  irradiance_.resize(settings_.irradiance_resolution, levels, scene_.heterogeneous());
   splatting_.resize(width, height, splatLevels);
   splats_.setDebug(settings_.debug_passes != 0);
   splats_.resize(width, height, splatLevels);

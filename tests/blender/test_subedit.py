@@ -139,10 +139,11 @@ class SubEditFiles(unittest.TestCase):
 
     def test_chessboard_against_reference_and_its_lines(self):
         """Marble and skin squares on a slab under a sun, against REFERENCE. FULL (3 levels) stays
-        within 1.5x BRUTE's error, over the image and in a band along the board's lines. The
-        lines are as sharp as the irradiance buffer: the error in the band falls as its texels
-        shrink (docs/HETEROGENEOUS.md has the figures; issue 5 asks for the band's error to be
-        at most 2x the error elsewhere, which 1024^2 texels at 96 pixels come near, 3.2x)."""
+        within 1.5x BRUTE's error, over the image and in a band along the board's lines. With
+        irradiance texels a third of skin's range R_P (1024^2), the lines stay sharp: the error in
+        the band is at most 2x the error elsewhere, for BRUTE and FULL. With texels as large as
+        skin's R_P (256^2, coarser than eq. 11 asks for) the band's error is larger, and falls as
+        the texels shrink (docs/HETEROGENEOUS.md has the figures and the reasons)."""
         import accuracy
         chessboard_file(self.path("subedit_slab_board.exr"), squares=8)
         scene = helpers.empty_scene(96, 96)
@@ -176,6 +177,9 @@ class SubEditFiles(unittest.TestCase):
             with self.subTest(resolution=resolution):
                 self.assertLess(errors["FULL"][0], 1.5 * errors["BRUTE"][0] + 1e-3)
                 self.assertLess(errors["FULL"][1], 1.5 * errors["BRUTE"][1] + 1e-3)
+                if resolution == 1024:
+                    for method, (_, band_error, elsewhere) in errors.items():
+                        self.assertLessEqual(band_error, 2.0 * elsewhere, f"{method}: the lines are blurred")
             band_errors[resolution] = errors["FULL"][1]
         self.assertLess(band_errors[1024], 0.5 * band_errors[256], "finer irradiance texels, sharper lines")
 

@@ -51,19 +51,28 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
   glBindVertexArray(0);
 }
 
-void IrradianceBuffer::resize(int resolution, int levels) {
+void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
   if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
-  if (resolution == resolution_ && levels == levels_) return;
+  if (resolution == resolution_ && levels == levels_ && profileSplits == profileSplits_) return;
   positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
   depthRange_ = gl::makeTexture2D(GL_RG32F, resolution, resolution, GL_NEAREST, levels);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
-  framebuffer_ = gl::makeFramebuffer(
-      {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id()}, depth_.id());
+  if (profileSplits) {
+    profileSplit_ = gl::makeTexture2D(GL_RGBA16F, resolution, resolution, GL_NEAREST, levels);
+    framebuffer_ = gl::makeFramebuffer(
+        {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id(), profileSplit_.id()},
+        depth_.id());
+  } else {
+    profileSplit_ = gl::Texture();
+    framebuffer_ = gl::makeFramebuffer(
+        {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id()}, depth_.id());
+  }
   resolution_ = resolution;
   levels_ = levels;
+  profileSplits_ = profileSplits;
 }
 
 void IrradianceBuffer::buildHierarchy() {
@@ -77,6 +86,11 @@ void IrradianceBuffer::buildHierarchy() {
     bindTexture(1, GL_TEXTURE_2D, fluxFootprint_.id(), p, "fineFluxFootprint");
     bindTexture(2, GL_TEXTURE_2D, normalObject_.id(), p, "fineNormalObject");
     bindTexture(3, GL_TEXTURE_2D, fine == 0 ? lightDepth_.id() : depthRange_.id(), p, "fineDepthRange");
+    glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
+    if (profileSplits_) {
+      bindTexture(4, GL_TEXTURE_2D, profileSplit_.id(), p, "fineProfileSplit");
+      glBindImageTexture(4, profileSplit_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    }
     glUniform1i(uniform(p, "fineLevel"), fine);
     glUniform2i(uniform(p, "coarseSize"), size, size);
     glBindImageTexture(0, positionMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -97,6 +111,7 @@ void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
   glClearBufferfv(GL_COLOR, 1, zero);
   glClearBufferfv(GL_COLOR, 2, empty);
   glClearBufferfv(GL_COLOR, 3, far);
+  if (profileSplits_) glClearBufferfv(GL_COLOR, 4, zero);
   glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
   glClear(GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
@@ -108,6 +123,7 @@ void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
   glUniform1f(uniform(p, "orthoTexelArea"), view.orthoTexelArea);
   glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
   glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
+  glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
   drawMeshes(scene, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);
 }

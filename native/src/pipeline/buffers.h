@@ -21,7 +21,9 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj);
 class IrradianceBuffer {
  public:
   // levels: 1 for BRUTE; the hierarchy's depth for the adaptive methods.
-  void resize(int resolution, int levels = 1);
+  // profileSplits: keep, per level-0 texel, where a second profile covers part
+  // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
+  void resize(int resolution, int levels = 1, bool profileSplits = false);
   void render(const Scene& scene, const LightView& view);
   // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
   void buildHierarchy();
@@ -34,11 +36,17 @@ class IrradianceBuffer {
   GLuint fluxFootprint() const { return fluxFootprint_.id(); }
   GLuint normalObject() const { return normalObject_.id(); }
   GLuint lightDepth() const { return lightDepth_.id(); }
+  // Every level, 0 unless resized with profileSplits: xyz the offset of the
+  // second profile's part from the texel centre over the footprint sigma,
+  // w = (its entry - the material's first) * 32 + its sixteenths of the texel.
+  GLuint profileSplit() const { return profileSplit_.id(); }
+  bool profileSplits() const { return profileSplits_; }
 
  private:
   int resolution_ = 0, levels_ = 0;
+  bool profileSplits_ = false;
   gl::Program program_, reduceProgram_;
-  gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_;
+  gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_, profileSplit_;
   gl::Framebuffer framebuffer_;
 };
 

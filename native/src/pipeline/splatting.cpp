@@ -97,6 +97,8 @@ void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightVi
   bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
   bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
   bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
+  glUniform1i(uniform(p, "profileSplits"), irradiance.profileSplits() ? 1 : 0);
+  if (irradiance.profileSplits()) bindTexture(8, GL_TEXTURE_2D, irradiance.profileSplit(), p, "irradianceProfileSplit");
 }
 
 void Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,

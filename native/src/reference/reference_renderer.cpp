@@ -99,9 +99,26 @@ struct ProfilePair {
 struct SurfaceSample {
   glm::vec3 position;   // the cell's centroid
   glm::vec3 corners[3];
+  glm::vec2 uvs[3];     // the corners' texture coordinates: refined parts look up their own profile
   glm::vec3 flux;       // E dA, W
   float diameter;       // longest edge of the cell
-  uint32_t material;
+  uint32_t material;    // the entry at the centroid
+  uint32_t base;        // the material's first entry
+  bool mapped;          // several profiles and UVs: the UVs choose among them
+};
+
+// Where a cell is refined, each part's profile: the entry at its centroid's UV
+// when the material is mapped, so profile boundaries are as sharp as the
+// refinement (eq. 8 evaluated per part), not as the cell.
+struct CellProfiles {
+  const std::vector<MaterialEntry>* entries;
+  const std::vector<Profile>* profiles;
+  uint32_t base;
+  bool mapped;
+  const Profile& at(const glm::dvec2& uv) const {
+    glm::vec2 at(uv);
+    return (*profiles)[size_t((*entries)[base].entryAt(&at))];
+  }
 };
 
 // The samples of one object, sorted into a uniform grid.
@@ -143,23 +160,25 @@ struct ObjectSamples {
 };
 
 // Flux of one cell, refined into four while it is large against its distance
-// to x_o (its irradiance stays the sample's).
-void addCell(const glm::dvec3& xo, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-             const glm::dvec3& flux, const ProfilePair& pair, int depth, glm::dvec3& sum,
-             uint64_t& evaluations) {
-  glm::dvec3 centroid = (a + b + c) / 3.0;
+// to x_o (its irradiance stays the sample's; each part has its own profile).
+void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&uv)[3], const glm::dvec3& flux,
+             ProfilePair pair, const CellProfiles& cell, int depth, glm::dvec3& sum, uint64_t& evaluations) {
+  glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
   glm::dvec3 offset = xo - centroid;
   double r2 = glm::dot(offset, offset);
-  double diameter = std::sqrt(std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)}));
+  double diameter = std::sqrt(std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
+                                        glm::dot(p[0] - p[2], p[0] - p[2])}));
   double limit = ReferenceRenderer::kRefineRatio * std::sqrt(r2);
   if (depth < ReferenceRenderer::kMaxDepth && diameter > limit && diameter > pair.finestCell) {
-    glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a), quarter = 0.25 * flux;
-    addCell(xo, a, ab, ca, quarter, pair, depth + 1, sum, evaluations);
-    addCell(xo, ab, b, bc, quarter, pair, depth + 1, sum, evaluations);
-    addCell(xo, ca, bc, c, quarter, pair, depth + 1, sum, evaluations);
-    addCell(xo, ab, bc, ca, quarter, pair, depth + 1, sum, evaluations);
+    const glm::dvec3 pm[3] = {0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0])};
+    const glm::dvec2 um[3] = {0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
+    const glm::dvec3 quarter = 0.25 * flux;
+    const glm::dvec3 parts[4][3] = {{p[0], pm[0], pm[2]}, {pm[0], p[1], pm[1]}, {pm[2], pm[1], p[2]}, {pm[0], pm[1], pm[2]}};
+    const glm::dvec2 partUvs[4][3] = {{uv[0], um[0], um[2]}, {um[0], uv[1], um[1]}, {um[2], um[1], uv[2]}, {um[0], um[1], um[2]}};
+    for (int i = 0; i < 4; ++i) addCell(xo, parts[i], partUvs[i], quarter, pair, cell, depth + 1, sum, evaluations);
     return;
   }
+  if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
   double k[3];
   pair.evaluate(r2, k);
   ++evaluations;
@@ -168,7 +187,8 @@ void addCell(const glm::dvec3& xo, const glm::dvec3& a, const glm::dvec3& b, con
 
 // B(x_o): every sample of the object within the support (eq. 5).
 glm::dvec3 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const Profile& outProfile,
-                      const std::vector<Profile>& profiles, uint64_t& evaluations) {
+                      const std::vector<MaterialEntry>& entries, const std::vector<Profile>& profiles,
+                      uint64_t& evaluations) {
   glm::dvec3 sum(0.0);
   double support = object.support;
   double support2 = support * support;
@@ -188,7 +208,10 @@ glm::dvec3 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const Pr
           ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
           double diameter = s.diameter;
           if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(r2) && diameter > pair.finestCell) {
-            addCell(x, s.corners[0], s.corners[1], s.corners[2], s.flux, pair, 0, sum, evaluations);
+            const glm::dvec3 corners[3] = {s.corners[0], s.corners[1], s.corners[2]};
+            const glm::dvec2 uvs[3] = {s.uvs[0], s.uvs[1], s.uvs[2]};
+            CellProfiles cell{&entries, &profiles, s.base, s.mapped};
+            addCell(x, corners, uvs, s.flux, pair, cell, 0, sum, evaluations);
             continue;
           }
           double k[3];
@@ -290,6 +313,9 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       const Profile& profile = profiles[(*m.materials)[tc.triangle]];  // Fresnel: the same for every entry
       glm::vec3 p0 = m.positions[tri.x], e1 = m.positions[tri.y] - p0, e2 = m.positions[tri.z] - p0;
       glm::vec3 ng = glm::normalize(glm::cross(e1, e2));
+      bool hasUvs = m.mesh->hasUvs();
+      glm::vec2 uv0(0.0f), uv1(0.0f), uv2(0.0f);
+      if (hasUvs) uv0 = m.mesh->cpuUvs[tri.x], uv1 = m.mesh->cpuUvs[tri.y], uv2 = m.mesh->cpuUvs[tri.z];
       float n = float(tc.cuts);
       float area = 0.5f * glm::length(glm::cross(e1, e2)) / (n * n);
       SurfaceSample* out = objects[tc.mesh].samples.data() + tc.first;
@@ -305,6 +331,12 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
                                          glm::dot(s.corners[2] - s.corners[1], s.corners[2] - s.corners[1]),
                                          glm::dot(s.corners[0] - s.corners[2], s.corners[0] - s.corners[2])}));
         s.material = entryAt(m, tc.triangle, {1.0f - centre.x - centre.y, centre.x, centre.y});
+        s.base = (*m.materials)[tc.triangle];
+        s.mapped = hasUvs && entries[s.base].mapped();
+        if (s.mapped) {
+          const glm::vec2 w[3] = {a, b, c};
+          for (int k = 0; k < 3; ++k) s.uvs[k] = uv0 + w[k].x * (uv1 - uv0) + w[k].y * (uv2 - uv0);
+        }
         glm::vec3 ns = interpolate(m.normals, tri, {1.0f - centre.x - centre.y, centre.x, centre.y});
         ns = glm::dot(ns, ns) > 0.0f ? glm::normalize(ns) : ng;
         glm::vec3 flux(0.0f);
@@ -376,7 +408,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         if (profile.translucent) {
           glm::dvec3 b = objects[size_t(hit.mesh)].samples.empty()
                              ? glm::dvec3(0.0)
-                             : exitanceAt(objects[size_t(hit.mesh)], p, profile, profiles, evaluations);
+                             : exitanceAt(objects[size_t(hit.mesh)], p, profile, entries, profiles, evaluations);
           float ft = float(fresnelTransmittance(profile.eta, glm::dot(n, view)));
           color += glm::vec3(b) * (ft / float(M_PI));
           float* e = exitance_.data() + 4 * pixel;
