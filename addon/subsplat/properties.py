@@ -47,7 +47,7 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         description="Multiresolution: lambda_z of eq. 17; how strongly upsampling avoids depth discontinuities")
     lambda_m: FloatProperty(
         name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
-        description="Multiresolution: lambda_m of eq. 17; how strongly upsampling avoids material boundaries")
+        description="Multiresolution: lambda_m of eq. 17 (per millimetre of R_P difference); how strongly upsampling avoids material boundaries")
     debug_passes: BoolProperty(
         name="Debug Passes", default=False,
         description="Add the passes 'SubSplat Samples' (selected irradiance samples, a colour per level: "
