@@ -12,13 +12,13 @@ bl_info = {
 
 if "bpy" in locals():
     import importlib
-    for _module in (native, presets, properties, principled, artist, export, engine, operators, ui):  # noqa: F821
+    for _module in (native, presets, properties, principled, artist, export, viewport, engine, operators, ui):  # noqa: F821
         importlib.reload(_module)
 
 import bpy  # noqa: E402,F401
 
-from . import native, presets, properties, principled, artist, export, engine, operators, ui  # noqa: E402,F401
-from .engine import last_render_error, last_render_passes, last_render_stats  # noqa: E402,F401
+from . import native, presets, properties, principled, artist, export, viewport, engine, operators, ui  # noqa: E402,F401
+from .engine import last_render_error, last_render_passes, last_render_stats, last_viewport  # noqa: E402,F401
 
 
 def register():

@@ -6,7 +6,7 @@ import time
 
 import bpy
 
-from . import export, native
+from . import export, native, viewport
 from .properties import METHOD_ITEMS
 
 _last_stats = {}
@@ -32,6 +32,16 @@ def last_render_error():
     return _last_error
 
 
+def last_viewport():
+    """Counters, stats and error of the most recently updated viewport (a copy; {} before one)."""
+    if _last_viewport is None:
+        return {}
+    return {**_last_viewport.counters.as_dict(), "stats": dict(_last_viewport.stats), "error": _last_viewport.error}
+
+
+_last_viewport = None
+
+
 def last_render_passes():
     """With keep_passes set: {"Combined": ..., "SubSplat Exitance": ...} of the last render, as
     float32 arrays (height, width, 4), bottom row first. Used by tests and bench/accuracy.py."""
@@ -49,6 +59,25 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         # Native GL objects belong to the render GL context: the native
         # context lives only inside render(), where that context is current.
         self._context = None
+        self._viewport = None
+
+    def __del__(self):
+        # Blender frees a viewport engine from its own window's context, where it drew.
+        viewport_session = getattr(self, "_viewport", None)
+        if viewport_session is not None:
+            viewport_session.release()
+
+    def view_update(self, context, depsgraph):
+        global _last_viewport
+        if self._viewport is None:
+            self._viewport = viewport.ViewportSession()
+        _last_viewport = self._viewport
+        self._viewport.update(depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        if self._viewport is None:
+            self.view_update(context, depsgraph)
+        self._viewport.draw(self, context, depsgraph)
 
     def update_render_passes(self, scene=None, renderlayer=None):
         # Lists the passes for the compositor's Render Layers node.
@@ -115,20 +144,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
                 raise native.SubsplatError(f"object '{name}': {error}") from error
         context.set_lights(frame.lights)
         context.set_camera(frame.camera)
-        native_settings = native.Settings()
-        native_settings.method = native.METHODS[settings.method]
-        native_settings.irradiance_resolution = settings.irradiance_resolution
-        native_settings.background = native.Float4(*export.background(scene))
-        native_settings.reference_samples = settings.reference_samples
-        native_settings.levels = settings.levels
-        native_settings.z0_factor = settings.z0_factor
-        native_settings.alpha = settings.alpha
-        native_settings.epsilon = settings.epsilon
-        native_settings.lambda_z = settings.lambda_z
-        native_settings.lambda_m = settings.lambda_m
         debug = settings.debug_passes and settings.method != "REFERENCE"
-        native_settings.debug_passes = int(debug)
-        context.set_settings(native_settings)
+        context.set_settings(native_settings(scene, debug))
 
         progress = None
         if settings.method == "REFERENCE":
@@ -172,6 +189,24 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             detail = (f"{stats['splat_count']} splats, {stats['levels']} irradiance / "
                       f"{stats['splat_levels']} splatting levels")
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
+
+
+def native_settings(scene, debug_passes=False):
+    """The scene's SubSplat settings as the library's Settings."""
+    settings = scene.subsplat
+    result = native.Settings()
+    result.method = native.METHODS[settings.method]
+    result.irradiance_resolution = settings.irradiance_resolution
+    result.background = native.Float4(*export.background(scene))
+    result.reference_samples = settings.reference_samples
+    result.levels = settings.levels
+    result.z0_factor = settings.z0_factor
+    result.alpha = settings.alpha
+    result.epsilon = settings.epsilon
+    result.lambda_z = settings.lambda_z
+    result.lambda_m = settings.lambda_m
+    result.debug_passes = int(debug_passes)
+    return result
 
 
 def scene_file_path(setting, frame):

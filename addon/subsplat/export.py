@@ -222,7 +222,7 @@ class Frame:
     def __init__(self):
         self.materials = {}   # name -> (material id, MaterialDesc)
         self.mapped = set()   # names of materials whose profiles vary over the surface (need UVs)
-        self.profile_sets = []  # kept alive until the native context took them
+        self.profile_sets = {}  # material name -> ProfileSet, kept alive while the native context may use it
         # (object name, positions, normals, triangles, triangle materials, matrix, uvs or None)
         self.meshes = []
         self.lights = []
@@ -232,17 +232,31 @@ class Frame:
     def material_id(self, material):
         key = material.name_full if material is not None else ""
         if key not in self.materials:
-            try:
-                desc = material_desc(material, self.warnings)
-            except (KeyError, AttributeError) as error:
-                raise ExportError(f"material '{key}': cannot read its settings ({error})") from error
-            self.materials[key] = (len(self.materials), desc)
-            if desc.kind == native.MATERIAL_SUBEDIT:
-                profiles = source_profiles(material)
-                self.profile_sets.append(profiles)
-                if profiles.info()["profiles"] > 1:
-                    self.mapped.add(key)
+            self._describe(key, material, len(self.materials))
         return self.materials[key][0]
+
+    def refresh_material(self, material):
+        """Describes a material again under its id (the viewport, after an edit): (id, desc), or
+        None for a material this frame has not used."""
+        key = material.name_full
+        if key not in self.materials:
+            return None
+        self._describe(key, material, self.materials[key][0])
+        return self.materials[key]
+
+    def _describe(self, key, material, material_id):
+        try:
+            desc = material_desc(material, self.warnings)
+        except (KeyError, AttributeError) as error:
+            raise ExportError(f"material '{key}': cannot read its settings ({error})") from error
+        self.materials[key] = (material_id, desc)
+        self.mapped.discard(key)
+        self.profile_sets.pop(key, None)
+        if desc.kind == native.MATERIAL_SUBEDIT:
+            profiles = source_profiles(material)
+            self.profile_sets[key] = profiles
+            if profiles.info()["profiles"] > 1:
+                self.mapped.add(key)
 
 
 def _light_desc(obj, matrix, frame):
@@ -283,6 +297,51 @@ def camera_desc(scene, depsgraph, width, height):
     return desc
 
 
+MESH_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+
+def export_mesh(obj, matrix, frame):
+    """One evaluated object's (name, positions, normals, triangles, triangle materials, matrix, uvs),
+    its materials registered in frame; None when it has no triangles to draw."""
+    try:
+        mesh = obj.to_mesh()
+    except RuntimeError:
+        mesh = None
+    if mesh is None:
+        return None
+    try:
+        if len(mesh.polygons) == 0:
+            return None
+        positions, normals, triangles, slots = mesh_arrays(mesh)
+        bad = np.flatnonzero(~np.isfinite(positions).all(axis=1))
+        if len(bad):
+            loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+            mesh.loops.foreach_get("vertex_index", loop_vertex)
+            vertex = int(loop_vertex[bad[0]])
+            raise ExportError(f"object '{obj.name}': vertex {vertex} has a non-finite position "
+                              f"{tuple(mesh.vertices[vertex].co)}")
+        if len(triangles) == 0:
+            return None
+        slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \
+            [frame.material_id(None)]
+        lookup = np.asarray(slot_materials, dtype=np.uint32)
+        triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
+        uvs = corner_uvs(mesh)
+        if uvs is None:
+            for slot in obj.material_slots:
+                if slot.material is not None and slot.material.name_full in frame.mapped:
+                    frame.warnings.append(f"object '{obj.name}' has no UV map: material '{slot.material.name}' "
+                                          "shows its most common profile everywhere")
+        return (obj.name, positions, normals, triangles, triangle_materials, column_major(matrix), uvs)
+    finally:
+        obj.to_mesh_clear()
+
+
+def renders(obj):
+    """Whether an evaluated object is drawn as a mesh."""
+    return obj.type in MESH_TYPES and obj.visible_camera
+
+
 def export_frame(depsgraph, width, height):
     """Every visible mesh instance, its materials, the lights and the camera."""
     scene = depsgraph.scene
@@ -292,44 +351,10 @@ def export_frame(depsgraph, width, height):
         obj = instance.object
         if obj.type == "LIGHT":
             frame.lights.append(_light_desc(obj, instance.matrix_world, frame))
-            continue
-        if obj.type not in {"MESH", "CURVE", "SURFACE", "META", "FONT"}:
-            continue
-        if not obj.visible_camera:
-            continue
-        try:
-            mesh = obj.to_mesh()
-        except RuntimeError:
-            mesh = None
-        if mesh is None:
-            continue
-        try:
-            if len(mesh.polygons) == 0:
-                continue
-            positions, normals, triangles, slots = mesh_arrays(mesh)
-            bad = np.flatnonzero(~np.isfinite(positions).all(axis=1))
-            if len(bad):
-                loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
-                mesh.loops.foreach_get("vertex_index", loop_vertex)
-                vertex = int(loop_vertex[bad[0]])
-                raise ExportError(f"object '{obj.name}': vertex {vertex} has a non-finite position "
-                                  f"{tuple(mesh.vertices[vertex].co)}")
-            if len(triangles) == 0:
-                continue
-            slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \
-                [frame.material_id(None)]
-            lookup = np.asarray(slot_materials, dtype=np.uint32)
-            triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
-            uvs = corner_uvs(mesh)
-            if uvs is None:
-                for slot in obj.material_slots:
-                    if slot.material is not None and slot.material.name_full in frame.mapped:
-                        frame.warnings.append(f"object '{obj.name}' has no UV map: material '{slot.material.name}' "
-                                              "shows its most common profile everywhere")
-            frame.meshes.append((obj.name, positions, normals, triangles, triangle_materials,
-                                 column_major(instance.matrix_world), uvs))
-        finally:
-            obj.to_mesh_clear()
+        elif renders(obj):
+            mesh = export_mesh(obj, instance.matrix_world, frame)
+            if mesh is not None:
+                frame.meshes.append(mesh)
     return frame
 
 

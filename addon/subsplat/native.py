@@ -286,6 +286,9 @@ class Context:
         desc.object_to_world = Float16(*object_to_world)
         _check(library().ssSetMesh(self._handle, object_id, ctypes.byref(desc)))
 
+    def remove_mesh(self, object_id):
+        _check(library().ssRemoveMesh(self._handle, object_id))
+
     def clear_scene(self):
         _check(library().ssClearScene(self._handle))
 

@@ -48,6 +48,13 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     lambda_m: FloatProperty(
         name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
         description="Multiresolution: lambda_m of eq. 17 (per millimetre of R_P difference); how strongly upsampling avoids material boundaries")
+    viewport_scale: EnumProperty(
+        name="Viewport Resolution", default="1",
+        items=[("1", "Full", "The viewport renders one pixel per screen pixel"),
+               ("2", "1/2", "The viewport renders half the pixels across and down, and scales up"),
+               ("4", "1/4", "The viewport renders a quarter of the pixels across and down, and scales up")],
+        description="Rendered shading in the 3D viewport at a fraction of the region's resolution, for speed; "
+                    "final renders always use the full resolution")
     debug_passes: BoolProperty(
         name="Debug Passes", default=False,
         description="Add the passes 'SubSplat Samples' (selected irradiance samples, a colour per level: "

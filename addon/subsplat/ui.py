@@ -23,9 +23,11 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.use_property_split = True
         settings = context.scene.subsplat
         layout.prop(settings, "method")
+        layout.prop(settings, "viewport_scale")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
             layout.prop(settings, "scene_file")
+            layout.label(text="The viewport shows Full; Reference is for final renders", icon="INFO")
             return
         layout.prop(settings, "irradiance_resolution")
         if settings.method in {"MULTIRES", "ADAPTIVE", "FULL"}:

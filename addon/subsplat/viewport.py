@@ -1,0 +1,209 @@
+"""The viewport's Rendered shading: one native context per viewport engine, kept in sync with the
+depsgraph incrementally (docs/VIEWPORT.md).
+
+Blender calls view_update() after every change and view_draw() for every redraw, both with the
+viewport's GL context current; the native context is created, used and released there. A camera
+move only redraws; an edit re-sends what it touched: a mesh whose geometry changed is exported
+again, a moved object is sent again from the arrays already exported, an edited material, light
+or setting is described again.
+"""
+import sys
+import time
+
+import bpy
+import gpu
+from gpu_extras.presets import draw_texture_2d
+import numpy as np
+
+from . import export, native
+
+# The method a viewport uses for each setting: REFERENCE takes minutes, so the viewport shows FULL.
+VIEWPORT_METHOD = {"REFERENCE": "FULL"}
+
+
+class Counters:
+    """How much work the viewport did (tests read these through last_viewport())."""
+
+    def __init__(self):
+        self.mesh_exports = 0      # meshes evaluated and read into arrays
+        self.mesh_uploads = 0      # ssSetMesh calls (exports and moves)
+        self.material_exports = 0  # materials described and sent
+        self.light_exports = 0     # times the lights were sent
+        self.full_syncs = 0
+        self.draws = 0
+
+    def as_dict(self):
+        return dict(vars(self))
+
+
+class ViewportSession:
+    """What one viewport engine instance keeps between updates and draws."""
+
+    def __init__(self):
+        self.context = None
+        self.frame = export.Frame()  # the material registry: stable ids, ProfileSets kept alive
+        self.objects = {}            # instance key -> [object id, mesh tuple]
+        self.free_ids = []
+        self.next_id = 0
+        self.settings = None
+        self.counters = Counters()
+        self.error = None
+        self.stats = {}
+
+    # -- updates -----------------------------------------------------------------------------
+
+    def update(self, depsgraph):
+        try:
+            if self.context is None:
+                self.context = native.Context()
+                self._sync(depsgraph, full=True)
+            else:
+                self._sync(depsgraph, full=False)
+            self.error = None
+        except (native.SubsplatError, export.ExportError) as error:
+            self.error = str(error)
+            print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
+
+    def _sync(self, depsgraph, full):
+        geometry, moved, materials = set(), set(), set()
+        lights = full
+        if full:
+            self.counters.full_syncs += 1
+        else:
+            for update in depsgraph.updates:
+                item = update.id
+                if isinstance(item, bpy.types.Material):
+                    materials.add(item.name_full)
+                elif isinstance(item, bpy.types.Object):
+                    if item.type == "LIGHT":
+                        lights = True
+                    else:
+                        if update.is_updated_geometry:
+                            geometry.add(item.name_full)
+                        if update.is_updated_transform:
+                            moved.add(item.name_full)
+                elif isinstance(item, (bpy.types.Light, bpy.types.Collection)):
+                    lights = True
+                elif isinstance(item, bpy.types.Image):
+                    # Principled and artist materials read images: describe them all again.
+                    materials.update(self.frame.materials)
+        for name in materials:
+            material = bpy.data.materials.get(name)
+            described = self.frame.refresh_material(material) if material is not None else None
+            if described is not None:
+                self.context.set_material(*described)
+                self.counters.material_exports += 1
+
+        seen = set()
+        light_descs = []
+        for instance in depsgraph.object_instances:
+            obj = instance.object
+            if obj.type == "LIGHT":
+                light_descs.append(export._light_desc(obj, instance.matrix_world, self.frame))
+                continue
+            if not export.renders(obj):
+                continue
+            key = (obj.name_full, tuple(instance.persistent_id) if instance.is_instance else None)
+            seen.add(key)
+            entry = self.objects.get(key)
+            if entry is None or obj.name_full in geometry:
+                known = set(self.frame.materials)
+                mesh = export.export_mesh(obj, instance.matrix_world, self.frame)
+                self.counters.mesh_exports += 1
+                self._send_new_materials(known)
+                if mesh is None:
+                    if entry is not None:
+                        self._remove(key)
+                    continue
+                if entry is None:
+                    entry = self.objects[key] = [self._new_id(), None]
+                entry[1] = mesh
+                self._upload(entry)
+            elif obj.name_full in moved:
+                entry[1] = entry[1][:5] + (export.column_major(instance.matrix_world),) + entry[1][6:]
+                self._upload(entry)
+        for key in set(self.objects) - seen:
+            self._remove(key)
+        if lights:
+            self.context.set_lights(light_descs)
+            self.counters.light_exports += 1
+
+        scene = depsgraph.scene
+        from .engine import native_settings
+        settings = native_settings(scene)
+        settings.method = native.METHODS[VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)]
+        if self.settings is None or bytes(settings) != bytes(self.settings):
+            self.context.set_settings(settings)
+            self.settings = settings
+
+    def _send_new_materials(self, known):
+        for name, (material_id, desc) in self.frame.materials.items():
+            if name not in known:
+                self.context.set_material(material_id, desc)
+                self.counters.material_exports += 1
+
+    def _new_id(self):
+        if self.free_ids:
+            return self.free_ids.pop()
+        self.next_id += 1
+        return self.next_id - 1
+
+    def _upload(self, entry):
+        object_id, (name, positions, normals, triangles, materials, matrix, uvs) = entry
+        try:
+            self.context.set_mesh(object_id, positions, normals, triangles, materials, matrix, uvs)
+        except native.SubsplatError as error:
+            raise native.SubsplatError(f"object '{name}': {error}") from error
+        self.counters.mesh_uploads += 1
+
+    def _remove(self, key):
+        object_id = self.objects.pop(key)[0]
+        self.context.remove_mesh(object_id)
+        self.free_ids.append(object_id)
+
+    # -- drawing -----------------------------------------------------------------------------
+
+    def draw(self, engine, context, depsgraph):
+        if self.context is None or self.error is not None:
+            engine.update_stats("", f"SubSplat: {self.error or 'waiting for the scene'}")
+            return
+        scene = depsgraph.scene
+        region, view = context.region, context.region_data
+        divisor = int(scene.subsplat.viewport_scale)
+        width, height = max(region.width // divisor, 1), max(region.height // divisor, 1)
+        camera = native.CameraDesc()
+        camera.world_to_view = native.Float16(*export.column_major(view.view_matrix))
+        camera.view_to_clip = native.Float16(*export.column_major(view.window_matrix))
+        camera.orthographic = 0 if view.is_perspective else 1
+        try:
+            self.context.set_camera(camera)
+            start = time.perf_counter()
+            pixels = self.context.render(width, height)
+            frame_ms = (time.perf_counter() - start) * 1e3
+            self.stats = self.context.stats()
+        except native.SubsplatError as error:
+            self.error = str(error)
+            engine.update_stats("", f"SubSplat: {error}")
+            print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
+            return
+        self.counters.draws += 1
+        pixels = np.ascontiguousarray(pixels, dtype=np.float32)
+        texture = gpu.types.GPUTexture((width, height), format="RGBA16F",
+                                       data=gpu.types.Buffer("FLOAT", pixels.size, pixels))
+        gpu.state.blend_set("ALPHA_PREMULT")
+        engine.bind_display_space_shader(scene)
+        draw_texture_2d(texture, (0, 0), region.width, region.height)
+        engine.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")
+        method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
+        engine.update_stats("", f"SubSplat {method}: {frame_ms:.0f} ms at {width} x {height}, "
+                                f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "
+                                f"{self.stats['splat_levels']} splatting levels")
+
+    def release(self):
+        if self.context is not None:
+            try:
+                self.context.release()
+            except native.SubsplatError:
+                pass
+            self.context = None

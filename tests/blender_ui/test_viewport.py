@@ -1,0 +1,221 @@
+"""The 3D viewport's Rendered shading with SubSplat, in Blender with its UI (under Xvfb).
+
+A translucent sphere lit from one side is drawn in a 3D view; the test checks, from the window's
+screenshots and the viewport's counters (subsplat.last_viewport()):
+- the sphere shows in the viewport region with the material's warm colour;
+- the header (its left third: editor type, mode, menus) and the properties editor look the same
+  as with Workbench in Rendered shading in the same spot;
+- a camera move redraws without exporting a mesh, a material or the lights again;
+- a material edit sends that material again (and no mesh) and changes the image;
+- a light move sends the lights again (and no mesh) and brightens the side it moves to.
+
+Run: xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python test_viewport.py
+(CTest does, with BLENDER_USER_SCRIPTS pointing at the built add-on). Exits 0 when every check
+passes, 1 otherwise; screenshots go to $SUBSPLAT_TEST_OUTPUT/viewport_*.png.
+"""
+import math
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+OUTPUT = os.environ.get("SUBSPLAT_TEST_OUTPUT", os.path.join(os.getcwd(), "test_output"))
+os.makedirs(OUTPUT, exist_ok=True)
+failures = []
+
+
+def check(condition, message):
+    print(("ok: " if condition else "FAILED: ") + message, flush=True)
+    if not condition:
+        failures.append(message)
+
+
+def areas():
+    window = bpy.context.window_manager.windows[0]
+    by_type = {area.type: area for area in window.screen.areas}
+    return window, by_type
+
+
+def screenshot(name):
+    """The whole window as float RGB (rows bottom first), also saved as a PNG."""
+    window, by_type = areas()
+    path = os.path.join(OUTPUT, f"viewport_{name}.png")
+    with bpy.context.temp_override(window=window, area=by_type["VIEW_3D"]):
+        bpy.ops.screen.screenshot(filepath=path)
+    image = bpy.data.images.load(path)
+    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(image.size[1], image.size[0], 4)[..., :3]
+    bpy.data.images.remove(image)
+    return pixels
+
+
+def crop(pixels, area):
+    """The pixels of one area (window coordinates, bottom-left origin)."""
+    return pixels[area.y:area.y + area.height, area.x:area.x + area.width]
+
+
+def region(area, kind):
+    return next(r for r in area.regions if r.type == kind)
+
+
+def crop_region(pixels, r):
+    return pixels[r.y:r.y + r.height, r.x:r.x + r.width]
+
+
+def setup():
+    import addon_utils
+    addon_utils.enable("subsplat", default_set=True)
+    import subsplat
+    subsplat.engine.exit_on_error = False
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        bpy.data.objects.remove(obj)
+    scene.render.resolution_x, scene.render.resolution_y = 640, 480
+    world = scene.world or bpy.data.worlds.new("World")
+    scene.world = world
+    world.use_nodes = False
+    world.color = (0.05, 0.05, 0.05)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=1.0, location=(0, 0, 0))
+    sphere = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    material = bpy.data.materials.new("Wax")
+    material.subsplat.enabled = True
+    material.subsplat.preset = "SKIN1"
+    material.subsplat.mm_per_unit = 100.0
+    sphere.data.materials.append(material)
+    light_data = bpy.data.lights.new("Sun", "SUN")
+    light_data.energy = 3.0
+    light = bpy.data.objects.new("Sun", light_data)
+    light.rotation_euler = (math.radians(60), 0, math.radians(90))  # from +x
+    scene.collection.objects.link(light)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0, -6, 0)
+    camera.rotation_euler = (math.radians(90), 0, 0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.subsplat.irradiance_resolution = 256
+    scene.subsplat.viewport_scale = "2"
+    window, by_type = areas()
+    view = by_type["VIEW_3D"].spaces.active
+    view.overlay.show_overlays = False
+    view.region_3d.view_perspective = "CAMERA"
+    by_type["PROPERTIES"].spaces.active.context = "OBJECT"
+    return subsplat, scene, sphere, material, light, view
+
+
+def redraw():
+    for area in bpy.context.window_manager.windows[0].screen.areas:
+        area.tag_redraw()
+
+
+def drawn(subsplat, draws, timeout=120.0):
+    """Yields timer intervals until the viewport has drawn more than `draws` times (and then once
+    more, for the window to show it)."""
+    waited = 0.0
+    while subsplat.last_viewport().get("draws", 0) <= draws and waited < timeout:
+        redraw()
+        yield 0.5
+        waited += 0.5
+    redraw()
+    yield 1.0
+
+
+def steps():
+    # Opening a file closes the splash screen that --factory-startup shows.
+    path = os.path.join(OUTPUT, "viewport_test.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    yield 1.0
+    subsplat, scene, sphere, material, light, view = setup()
+    scene.render.engine = "BLENDER_WORKBENCH"
+    view.shading.type = "RENDERED"
+    yield 2.0
+    workbench = screenshot("workbench")
+
+    scene.render.engine = "SUBSPLAT"
+    redraw()
+    yield from drawn(subsplat, 0)
+    first = subsplat.last_viewport()
+    check(first.get("draws", 0) > 0 and first.get("error") is None, f"the viewport drew: {first}")
+    rendered = screenshot("rendered")
+    window, by_type = areas()
+    view_area = by_type["VIEW_3D"]
+    inside = crop_region(rendered, region(view_area, "WINDOW"))
+    h, w = inside.shape[:2]
+    corner = inside[:h // 10, :w // 10].reshape(-1, 3).mean(axis=0)
+    brightness = inside.sum(axis=-1)
+    lit = inside[brightness > np.percentile(brightness, 95)].mean(axis=0)
+    check(lit.sum() > corner.sum() + 0.3, f"the lit side of the sphere stands out ({lit} vs background {corner})")
+    check(lit[0] > lit[2] + 0.1, f"the skin material looks warm (red > blue: {lit})")
+    # The header's left part (editor type, mode and menus) and the properties editor; the
+    # shading buttons on the right differ by engine (Workbench has no Material Preview).
+    header = region(view_area, "HEADER")
+    for kind, a, b in (("header", crop_region(rendered, header)[:, : header.width // 3],
+                        crop_region(workbench, header)[:, : header.width // 3]),
+                       ("properties editor", crop(rendered, by_type["PROPERTIES"]), crop(workbench, by_type["PROPERTIES"]))):
+        difference = float(np.abs(a - b).max())
+        check(difference < 0.02, f"the {kind} looks as with Workbench (largest difference {difference:.3f})")
+
+    before = subsplat.last_viewport()
+    view.region_3d.view_perspective = "PERSP"
+    view.region_3d.view_distance = 8.0
+    view.region_3d.view_rotation.rotate(__import__("mathutils").Euler((0.0, 0.0, 0.3)))
+    yield from drawn(subsplat, before["draws"])
+    after = subsplat.last_viewport()
+    check(after["draws"] > before["draws"], "a camera move redraws")
+    for counter in ("mesh_exports", "material_exports", "light_exports", "full_syncs"):
+        check(after[counter] == before[counter], f"a camera move sends no {counter} ({before[counter]} -> {after[counter]})")
+    draws = after["draws"]
+    view.region_3d.view_perspective = "CAMERA"
+    yield from drawn(subsplat, draws)
+    skin = screenshot("skin")
+
+    before = subsplat.last_viewport()
+    material.subsplat.preset = "MARBLE"
+    yield from drawn(subsplat, before["draws"])
+    after = subsplat.last_viewport()
+    check(after["material_exports"] > before["material_exports"], "a material edit sends the material again")
+    check(after["mesh_exports"] == before["mesh_exports"], "a material edit exports no mesh")
+    marble = screenshot("marble")
+    inside_skin = crop_region(skin, region(view_area, "WINDOW"))
+    inside_marble = crop_region(marble, region(view_area, "WINDOW"))
+    changed = float(np.abs(inside_skin - inside_marble).mean())
+    check(changed > 0.005, f"the image changes with the material (mean difference {changed:.4f})")
+
+    before = subsplat.last_viewport()
+    left_before = inside_marble[:, : inside_marble.shape[1] // 2].mean()
+    light.rotation_euler = (math.radians(60), 0, math.radians(-90))  # now from -x
+    yield from drawn(subsplat, before["draws"])
+    after = subsplat.last_viewport()
+    check(after["light_exports"] > before["light_exports"], "a light move sends the lights again")
+    check(after["mesh_exports"] == before["mesh_exports"], "a light move exports no mesh")
+    moved = crop_region(screenshot("light_moved"), region(view_area, "WINDOW"))
+    left_after = moved[:, : moved.shape[1] // 2].mean()
+    check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
+
+
+def main():
+    sequence = steps()
+
+    def tick():
+        try:
+            return next(sequence)
+        except StopIteration:
+            finish()
+        except Exception:  # a broken test must fail, not hang the UI
+            traceback.print_exc()
+            failures.append("exception")
+            finish()
+        return None
+
+    bpy.app.timers.register(tick, first_interval=1.0, persistent=True)
+
+
+def finish():
+    print(f"{len(failures)} failed" if failures else "all viewport checks passed", flush=True)
+    sys.stdout.flush()
+    os._exit(1 if failures else 0)
+
+
+main()
