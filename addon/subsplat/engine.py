@@ -109,10 +109,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             print(f"SubSplat: {error}", file=sys.stderr, flush=True)
         finally:
             if self._context is not None:
-                try:
-                    self._context.release()
-                except native.SubsplatError:
-                    pass
+                self._context.release_quietly()
                 self._context = None
         if _last_error is not None and bpy.app.background and exit_on_error:
             # `blender -b ... -f N` exits 0 after a failed render, and a
@@ -137,15 +134,12 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         context = self._context
         for material_id, desc in frame.materials.values():
             context.set_material(material_id, desc)
-        for object_id, (name, positions, normals, triangles, materials, matrix, uvs) in enumerate(frame.meshes):
-            try:
-                context.set_mesh(object_id, positions, normals, triangles, materials, matrix, uvs)
-            except native.SubsplatError as error:
-                raise native.SubsplatError(f"object '{name}': {error}") from error
+        for object_id, mesh in enumerate(frame.meshes):
+            export.send_mesh(context, object_id, mesh)
         context.set_lights(frame.lights)
         context.set_camera(frame.camera)
         debug = settings.debug_passes and settings.method != "REFERENCE"
-        context.set_settings(native_settings(scene, debug))
+        context.set_settings(export.native_settings(scene, debug))
 
         progress = None
         if settings.method == "REFERENCE":
@@ -189,24 +183,6 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             detail = (f"{stats['splat_count']} splats, {stats['levels']} irradiance / "
                       f"{stats['splat_levels']} splatting levels")
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
-
-
-def native_settings(scene, debug_passes=False):
-    """The scene's SubSplat settings as the library's Settings."""
-    settings = scene.subsplat
-    result = native.Settings()
-    result.method = native.METHODS[settings.method]
-    result.irradiance_resolution = settings.irradiance_resolution
-    result.background = native.Float4(*export.background(scene))
-    result.reference_samples = settings.reference_samples
-    result.levels = settings.levels
-    result.z0_factor = settings.z0_factor
-    result.alpha = settings.alpha
-    result.epsilon = settings.epsilon
-    result.lambda_z = settings.lambda_z
-    result.lambda_m = settings.lambda_m
-    result.debug_passes = int(debug_passes)
-    return result
 
 
 def scene_file_path(setting, frame):

@@ -358,6 +358,33 @@ def export_frame(depsgraph, width, height):
     return frame
 
 
+def native_settings(scene, debug_passes=False):
+    """The scene's SubSplat settings as the library's Settings."""
+    settings = scene.subsplat
+    result = native.Settings()
+    result.method = native.METHODS[settings.method]
+    result.irradiance_resolution = settings.irradiance_resolution
+    result.background = native.Float4(*background(scene))
+    result.reference_samples = settings.reference_samples
+    result.levels = settings.levels
+    result.z0_factor = settings.z0_factor
+    result.alpha = settings.alpha
+    result.epsilon = settings.epsilon
+    result.lambda_z = settings.lambda_z
+    result.lambda_m = settings.lambda_m
+    result.debug_passes = int(debug_passes)
+    return result
+
+
+def send_mesh(context, object_id, mesh):
+    """Sends export_mesh()'s tuple to a native context; its errors name the object."""
+    name, positions, normals, triangles, materials, matrix, uvs = mesh
+    try:
+        context.set_mesh(object_id, positions, normals, triangles, materials, matrix, uvs)
+    except native.SubsplatError as error:
+        raise native.SubsplatError(f"object '{name}': {error}") from error
+
+
 def background(scene):
     """RGBA written where no object is hit: transparent, or the world colour."""
     if scene.render.film_transparent:

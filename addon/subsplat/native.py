@@ -264,6 +264,13 @@ class Context:
             _check(library().ssReleaseContext(self._handle))
             self._handle = ctypes.c_void_p()
 
+    def release_quietly(self):
+        """release() where a failure has nowhere to go (cleanup after a render or a viewport)."""
+        try:
+            self.release()
+        except SubsplatError:
+            pass
+
     def set_material(self, material_id, material):
         _check(library().ssSetMaterial(self._handle, material_id, ctypes.byref(material)))
 

@@ -129,8 +129,7 @@ class ViewportSession:
             self.counters.light_exports += 1
 
         scene = depsgraph.scene
-        from .engine import native_settings
-        settings = native_settings(scene)
+        settings = export.native_settings(scene)
         settings.method = native.METHODS[VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)]
         if self.settings is None or bytes(settings) != bytes(self.settings):
             self.context.set_settings(settings)
@@ -149,11 +148,7 @@ class ViewportSession:
         return self.next_id - 1
 
     def _upload(self, entry):
-        object_id, (name, positions, normals, triangles, materials, matrix, uvs) = entry
-        try:
-            self.context.set_mesh(object_id, positions, normals, triangles, materials, matrix, uvs)
-        except native.SubsplatError as error:
-            raise native.SubsplatError(f"object '{name}': {error}") from error
+        export.send_mesh(self.context, *entry)
         self.counters.mesh_uploads += 1
 
     def _remove(self, key):
@@ -202,8 +197,5 @@ class ViewportSession:
 
     def release(self):
         if self.context is not None:
-            try:
-                self.context.release()
-            except native.SubsplatError:
-                pass
+            self.context.release_quietly()
             self.context = None
