@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-API_VERSION = 6
+API_VERSION = 7
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
@@ -50,6 +50,12 @@ class MeshDesc(ctypes.Structure):
                 ("triangle_count", ctypes.c_uint32),
                 ("default_material", ctypes.c_uint32),
                 ("object_to_world", Float16)]
+
+
+class ResourceCounts(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_int64) for name in ("contexts", "profile_sets", "textures", "buffers",
+                                                     "framebuffers", "vertex_arrays", "programs", "queries",
+                                                     "orphaned_gl_objects")]
 
 
 class MaterialDesc(ctypes.Structure):
@@ -148,6 +154,7 @@ def library():
             "ssSaveProfileSet": [handle, ctypes.c_char_p],
             "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
             "ssReleaseProfileSet": [handle],
+            "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
         }
         for name, args in signatures.items():
             function = getattr(lib, name)
@@ -172,6 +179,13 @@ def _floats(array):
 
 def _uints(array):
     return array.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32))
+
+
+def resource_counts():
+    """Live handles and GL objects the library holds now, over all contexts, as a dict."""
+    counts = ResourceCounts()
+    _check(library().ssGetResourceCounts(ctypes.byref(counts)))
+    return {name: getattr(counts, name) for name, _ in ResourceCounts._fields_}
 
 
 def profile_info(material):

@@ -4,6 +4,7 @@
 
 #include <dlfcn.h>
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <string>
 #include <utility>
 
+#include "gl/gl.h"
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
 #include "renderer.h"
@@ -18,13 +20,28 @@
 #include "subsplat/subsplat.h"
 #include "util/error.h"
 
-struct SsContext_ {
+namespace {
+
+// Live handles of each kind (ssGetResourceCounts).
+template <typename Handle>
+struct Counted {
+  Counted() { live.fetch_add(1, std::memory_order_relaxed); }
+  ~Counted() { live.fetch_sub(1, std::memory_order_relaxed); }
+  Counted(const Counted&) = delete;
+  Counted& operator=(const Counted&) = delete;
+  inline static std::atomic<int64_t> live{0};
+};
+
+}  // namespace
+
+struct SsContext_ : Counted<SsContext_> {
   static constexpr uint64_t kMagic = 0x5355425350'4c4154ull;
   uint64_t magic = kMagic;
+  void* glContext = nullptr;  // the OpenGL context current at ssNewContext, which owns the GL objects
   subsplat::Renderer renderer;
 };
 
-struct SsProfileSet_ {
+struct SsProfileSet_ : Counted<SsProfileSet_> {
   static constexpr uint64_t kMagic = 0x5353'50524f46'494cull;
   uint64_t magic = kMagic;
   std::shared_ptr<const subsplat::ProfileSet> set;
@@ -62,23 +79,42 @@ subsplat::Renderer& renderer(SsContext context) {
   return context->renderer;
 }
 
-// GL calls without a current context crash inside the driver, so ask the
-// window-system layers (whichever the host loaded) before touching GL.
-void requireGlContext() {
+// The OpenGL context current on this thread, asked of the window-system layers
+// (whichever the host loaded: EGL or GLX), or nullptr.
+void* currentGlContext() {
   using GetCurrent = void* (*)();
   const std::pair<const char*, const char*> layers[] = {{"libEGL.so.1", "eglGetCurrentContext"},
                                                         {"libGLX.so.0", "glXGetCurrentContext"},
                                                         {"libGL.so.1", "glXGetCurrentContext"}};
-  bool current = false;
+  void* current = nullptr;
   for (const auto& [library, function] : layers) {
     void* handle = dlopen(library, RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
     if (!handle) continue;
     auto get = reinterpret_cast<GetCurrent>(dlsym(handle, function));
-    current = current || (get != nullptr && get() != nullptr);
+    if (current == nullptr && get != nullptr) current = get();
     dlclose(handle);
   }
-  if (!current) subsplat::fail(SS_GL_ERROR, "no OpenGL context is current on this thread");
+  return current;
+}
+
+// GL calls without a current context crash inside the driver: ask before touching GL.
+void* requireGlContext() {
+  void* current = currentGlContext();
+  if (current == nullptr) subsplat::fail(SS_GL_ERROR, "no OpenGL context is current on this thread");
   if (glGetString(GL_VERSION) == nullptr) subsplat::fail(SS_GL_ERROR, "no OpenGL context is current");
+  return current;
+}
+
+// A context whose entry point issues GL: its own OpenGL context must be current, since the
+// names of its vertex arrays and framebuffers mean other objects, or nothing, in any other.
+subsplat::Renderer& ownRenderer(SsContext context) {
+  subsplat::Renderer& r = renderer(context);
+  void* current = currentGlContext();
+  if (current == nullptr) subsplat::fail(SS_GL_ERROR, "no OpenGL context is current on this thread");
+  if (current != context->glContext)
+    subsplat::fail(SS_GL_ERROR, "the OpenGL context current now is not the one this context was created in");
+  subsplat::gl::deleteOrphans(current);
+  return r;
 }
 
 std::shared_ptr<const subsplat::ProfileSet> profileSet(SsProfileSet handle, const std::string& what) {
@@ -115,12 +151,31 @@ int32_t ssGetApiVersion(void) { return SS_API_VERSION; }
 
 const char* ssGetLastError(void) { return lastError.c_str(); }
 
+SsStatus ssGetResourceCounts(SsResourceCounts* out) {
+  return guarded("ssGetResourceCounts", [&] {
+    if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
+    namespace gl = subsplat::gl;
+    *out = SsResourceCounts{};
+    out->contexts = Counted<SsContext_>::live;
+    out->profile_sets = Counted<SsProfileSet_>::live;
+    out->textures = gl::Texture::live();
+    out->buffers = gl::Buffer::live();
+    out->framebuffers = gl::Framebuffer::live();
+    out->vertex_arrays = gl::VertexArray::live();
+    out->programs = gl::Program::live();
+    out->queries = gl::Query::live();
+    out->orphaned_gl_objects = gl::orphanedObjects();
+  });
+}
+
 SsStatus ssNewContext(SsContext* out) {
   return guarded("ssNewContext", [&] {
     if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
     *out = nullptr;
-    requireGlContext();
+    void* glContext = requireGlContext();
+    subsplat::gl::deleteOrphans(glContext);
     *out = new SsContext_();
+    (*out)->glContext = glContext;
   });
 }
 
@@ -128,14 +183,22 @@ SsStatus ssReleaseContext(SsContext context) {
   return guarded("ssReleaseContext", [&] {
     renderer(context);
     context->magic = 0;
-    delete context;
+    // GL names belong to the context that made them: deleted from any other, they would
+    // delete the host's objects of the same names. Away from its own context, a context's GL
+    // objects wait for it (deleted by the next call made there: ssNewContext, a render).
+    void* current = currentGlContext();
+    {
+      subsplat::gl::OrphanScope orphans(context->glContext, current != context->glContext);
+      delete context;
+    }
+    if (current != nullptr) subsplat::gl::deleteOrphans(current);
   });
 }
 
 SsStatus ssSetMaterial(SsContext context, uint32_t id, const SsMaterialDesc* material) {
   return guarded("ssSetMaterial", [&] {
     const SsMaterialDesc& m = deref(material, "material");
-    subsplat::Scene& scene = renderer(context).scene();
+    subsplat::Scene& scene = ownRenderer(context).scene();
     if (m.kind == SS_MATERIAL_SUBEDIT) {
       subsplat::validateMaterial(m);
       scene.setMaterial(id, m, profileSet(m.profiles, "material " + std::to_string(id) + ": profiles"));
@@ -148,16 +211,16 @@ SsStatus ssSetMaterial(SsContext context, uint32_t id, const SsMaterialDesc* mat
 SsStatus ssSetMesh(SsContext context, uint32_t objectId, const SsMeshDesc* mesh) {
   return guarded("ssSetMesh", [&] {
     subsplat::gl::StateGuard guard;
-    renderer(context).scene().setMesh(objectId, deref(mesh, "mesh"));
+    ownRenderer(context).scene().setMesh(objectId, deref(mesh, "mesh"));
   });
 }
 
 SsStatus ssRemoveMesh(SsContext context, uint32_t objectId) {
-  return guarded("ssRemoveMesh", [&] { renderer(context).scene().removeMesh(objectId); });
+  return guarded("ssRemoveMesh", [&] { ownRenderer(context).scene().removeMesh(objectId); });
 }
 
 SsStatus ssClearScene(SsContext context) {
-  return guarded("ssClearScene", [&] { renderer(context).scene().clear(); });
+  return guarded("ssClearScene", [&] { ownRenderer(context).scene().clear(); });
 }
 
 SsStatus ssSetLights(SsContext context, const SsLightDesc* lights, uint32_t count) {
@@ -180,7 +243,7 @@ SsStatus ssGetSettings(SsContext context, SsSettings* out) {
 }
 
 SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba) {
-  return guarded("ssRender", [&] { renderer(context).render(width, height, rgba); });
+  return guarded("ssRender", [&] { ownRenderer(context).render(width, height, rgba); });
 }
 
 SsStatus ssGetStats(SsContext context, SsStats* out) {
@@ -191,7 +254,7 @@ SsStatus ssGetStats(SsContext context, SsStats* out) {
 }
 
 SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_t height, float* rgba) {
-  return guarded("ssGetPass", [&] { renderer(context).readPass(pass, width, height, rgba); });
+  return guarded("ssGetPass", [&] { ownRenderer(context).readPass(pass, width, height, rgba); });
 }
 
 SsStatus ssSetProgressCallback(SsContext context, SsProgressCallback callback, void* user) {
@@ -216,9 +279,8 @@ SsStatus ssLoadScene(SsContext context, const char* path, int32_t* frameWidth, i
   return guarded("ssLoadScene", [&] {
     if (frameWidth) *frameWidth = 0;
     if (frameHeight) *frameHeight = 0;
-    subsplat::Renderer& r = renderer(context);
     const char* p = &deref(path, "path");
-    requireGlContext();
+    subsplat::Renderer& r = ownRenderer(context);
     subsplat::gl::StateGuard guard;
     subsplat::FrameSize frame = subsplat::loadScene(r, p);
     if (frameWidth) *frameWidth = frame.width;

@@ -41,6 +41,86 @@ TEST(ApiWithoutContext, NullPointersAreRejected) {
   EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat context"), std::string::npos);
 }
 
+SsResourceCounts resourceCounts() {
+  SsResourceCounts counts{};
+  EXPECT_EQ(ssGetResourceCounts(&counts), SS_OK) << ssGetLastError();
+  return counts;
+}
+
+TEST(ApiResources, RenderingAndReleasingLeavesNoHandleOrGlObjectBehind) {
+  EXPECT_EQ(ssGetResourceCounts(nullptr), SS_INVALID_ARGUMENT);
+  testing::EglContext gl;
+  const SsResourceCounts before = resourceCounts();
+  testing::Sphere sphere;
+  for (int round = 0; round < 3; ++round) {
+    SsContext context = nullptr;
+    ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+    ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
+    std::vector<float> rgba(32 * 32 * 4);
+    for (SsMethod method : {SS_METHOD_BRUTE, SS_METHOD_FULL}) {
+      SsSettings settings{};
+      ASSERT_EQ(ssGetSettings(context, &settings), SS_OK);
+      settings.method = method;
+      settings.irradiance_resolution = 64;
+      ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+      ASSERT_EQ(ssRender(context, 32, 32, rgba.data()), SS_OK) << ssGetLastError();
+    }
+    const SsResourceCounts during = resourceCounts();
+    EXPECT_EQ(during.contexts, before.contexts + 1);
+    EXPECT_GT(during.textures, before.textures);
+    EXPECT_GT(during.buffers, before.buffers);
+    EXPECT_GT(during.programs, before.programs);
+    ASSERT_EQ(ssReleaseContext(context), SS_OK);
+    const SsResourceCounts after = resourceCounts();
+    EXPECT_EQ(after.contexts, before.contexts);
+    EXPECT_EQ(after.textures, before.textures);
+    EXPECT_EQ(after.buffers, before.buffers);
+    EXPECT_EQ(after.framebuffers, before.framebuffers);
+    EXPECT_EQ(after.vertex_arrays, before.vertex_arrays);
+    EXPECT_EQ(after.programs, before.programs);
+    EXPECT_EQ(after.queries, before.queries);
+    EXPECT_EQ(after.orphaned_gl_objects, before.orphaned_gl_objects);
+  }
+}
+
+// With another OpenGL context current, a context refuses GL work; released there, its GL
+// objects wait for their own context and are deleted by the next call made in it.
+TEST(ApiResources, AnotherGlContextIsRefusedAndReleasingThereWaitsForTheOwner) {
+  testing::EglContext other;
+  testing::EglContext owner;  // current
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  testing::Sphere sphere;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
+  std::vector<float> rgba(16 * 16 * 4);
+  ASSERT_EQ(ssRender(context, 16, 16, rgba.data()), SS_OK) << ssGetLastError();
+  const SsResourceCounts before = resourceCounts();
+  const int64_t held = before.textures + before.buffers + before.framebuffers + before.vertex_arrays +
+                       before.programs + before.queries;
+  ASSERT_TRUE(other.makeCurrent());  // the names of `owner`'s objects mean nothing here
+  EXPECT_EQ(ssRender(context, 16, 16, rgba.data()), SS_GL_ERROR);
+  EXPECT_NE(std::string(ssGetLastError()).find("not the one this context was created in"), std::string::npos)
+      << ssGetLastError();
+  SsMeshDesc mesh = sphere.desc(glm::vec3(0.0f), 0.3f, 0);
+  EXPECT_EQ(ssSetMesh(context, 0, &mesh), SS_GL_ERROR);
+  EXPECT_EQ(ssRemoveMesh(context, 0), SS_GL_ERROR);
+  ASSERT_EQ(ssReleaseContext(context), SS_OK) << ssGetLastError();
+  const SsResourceCounts released = resourceCounts();
+  EXPECT_EQ(released.contexts, before.contexts - 1);
+  EXPECT_EQ(released.textures + released.buffers + released.framebuffers + released.vertex_arrays +
+                released.programs + released.queries,
+            0);
+  EXPECT_EQ(released.orphaned_gl_objects - before.orphaned_gl_objects, held);
+  SsContext next = nullptr;  // a context made in `other` leaves them waiting
+  ASSERT_EQ(ssNewContext(&next), SS_OK);
+  EXPECT_EQ(resourceCounts().orphaned_gl_objects, released.orphaned_gl_objects);
+  ASSERT_EQ(ssReleaseContext(next), SS_OK);
+  ASSERT_TRUE(owner.makeCurrent());  // the next call made in `owner` deletes them
+  ASSERT_EQ(ssNewContext(&next), SS_OK);
+  EXPECT_EQ(resourceCounts().orphaned_gl_objects, before.orphaned_gl_objects);
+  ASSERT_EQ(ssReleaseContext(next), SS_OK);
+}
+
 TEST_F(Api, NaNPositionIsRejectedWithTheVertex) {
   std::vector<float> positions = quad.positions;
   positions[7] = std::numeric_limits<float>::quiet_NaN();

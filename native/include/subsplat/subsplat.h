@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 6
+#define SS_API_VERSION 7
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -192,7 +192,23 @@ typedef int32_t (*SsProgressCallback)(float fraction, void* user);
 SS_API int32_t ssGetApiVersion(void);
 SS_API const char* ssGetLastError(void);
 
-/* Context: needs a current OpenGL 4.3+ core context. */
+/* What the library holds now, over every context and thread: live handles and the GL
+ * objects it created and has not deleted (leak tests, long sessions). A context released
+ * while another OpenGL context (or none) is current cannot delete its GL objects there (their
+ * names mean other objects in another context): they wait, counted in orphaned_gl_objects
+ * and in no other count, until the next ssNewContext or GL-issuing call made with their own
+ * OpenGL context current deletes them. */
+typedef struct SsResourceCounts {
+  int64_t contexts;
+  int64_t profile_sets;
+  int64_t textures, buffers, framebuffers, vertex_arrays, programs, queries;
+  int64_t orphaned_gl_objects;
+} SsResourceCounts;
+SS_API SsStatus ssGetResourceCounts(SsResourceCounts* out);
+
+/* Context: needs a current OpenGL 4.3+ core context; GL-issuing calls (materials, meshes,
+ * render, passes, scene loading) must be made with that same context current, or fail with
+ * SS_GL_ERROR. Release it with that context current, or see SsResourceCounts. */
 SS_API SsStatus ssNewContext(SsContext* out);
 SS_API SsStatus ssReleaseContext(SsContext context);
 

@@ -1,5 +1,8 @@
 #include "gl/gl.h"
 
+#include <mutex>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "gl/shader_sources.h"
@@ -7,12 +10,68 @@
 
 namespace subsplat::gl {
 
-void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
-void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-void deleteProgram(GLuint id) { glDeleteProgram(id); }
-void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
+namespace {
+void rawDeleteTexture(GLuint id) { glDeleteTextures(1, &id); }
+void rawDeleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void rawDeleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void rawDeleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+void rawDeleteProgram(GLuint id) { glDeleteProgram(id); }
+void rawDeleteQuery(GLuint id) { glDeleteQueries(1, &id); }
+
+struct Orphan {
+  void (*remove)(GLuint);
+  GLuint id;
+};
+std::mutex orphanMutex;
+std::unordered_map<const void*, std::vector<Orphan>> orphans;  // by owning OpenGL context
+int64_t orphanTotal = 0;
+
+thread_local const void* orphanOwner = nullptr;
+thread_local bool orphaning = false;
+
+// Queues the object for its own context while an OrphanScope is active.
+bool orphaned(void (*remove)(GLuint), GLuint id) {
+  if (!orphaning) return false;
+  std::lock_guard<std::mutex> lock(orphanMutex);
+  orphans[orphanOwner].push_back({remove, id});
+  ++orphanTotal;
+  return true;
+}
+}  // namespace
+
+OrphanScope::OrphanScope(const void* owner, bool away)
+    : previousOwner_(std::exchange(orphanOwner, away ? owner : orphanOwner)),
+      previous_(std::exchange(orphaning, orphaning || away)) {}
+OrphanScope::~OrphanScope() {
+  orphanOwner = previousOwner_;
+  orphaning = previous_;
+}
+
+void deleteOrphans(const void* current) {
+  std::vector<Orphan> mine;
+  {
+    std::lock_guard<std::mutex> lock(orphanMutex);
+    auto found = orphans.find(current);
+    if (found == orphans.end()) return;
+    mine = std::move(found->second);
+    orphans.erase(found);
+    orphanTotal -= int64_t(mine.size());
+  }
+  for (const Orphan& o : mine) o.remove(o.id);
+}
+
+int64_t orphanedObjects() {
+  std::lock_guard<std::mutex> lock(orphanMutex);
+  return orphanTotal;
+}
+
+void deleteTexture(GLuint id) { if (!orphaned(rawDeleteTexture, id)) rawDeleteTexture(id); }
+void deleteBuffer(GLuint id) { if (!orphaned(rawDeleteBuffer, id)) rawDeleteBuffer(id); }
+void deleteFramebuffer(GLuint id) { if (!orphaned(rawDeleteFramebuffer, id)) rawDeleteFramebuffer(id); }
+void deleteVertexArray(GLuint id) { if (!orphaned(rawDeleteVertexArray, id)) rawDeleteVertexArray(id); }
+void deleteProgram(GLuint id) { if (!orphaned(rawDeleteProgram, id)) rawDeleteProgram(id); }
+void deleteQuery(GLuint id) { if (!orphaned(rawDeleteQuery, id)) rawDeleteQuery(id); }
+
 
 static void setFilter(GLenum target, GLenum filter) {
   glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);

@@ -3,16 +3,19 @@
 
 #include <epoxy/gl.h>
 
+#include <atomic>
+#include <cstdint>
 #include <string>
 #include <utility>
 
 namespace subsplat::gl {
 
+// Each kind counts its live objects over all contexts (ssGetResourceCounts: the leak tests).
 template <void (*Delete)(GLuint)>
 class Object {
  public:
   Object() = default;
-  explicit Object(GLuint id) : id_(id) {}
+  explicit Object(GLuint id) : id_(id) { if (id_) live_.fetch_add(1, std::memory_order_relaxed); }
   ~Object() { reset(); }
   Object(Object&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
   Object& operator=(Object&& o) noexcept {
@@ -21,13 +24,39 @@ class Object {
   }
   Object(const Object&) = delete;
   Object& operator=(const Object&) = delete;
-  void reset() { if (id_) Delete(id_); id_ = 0; }
+  void reset() {
+    if (id_) {
+      Delete(id_);
+      live_.fetch_sub(1, std::memory_order_relaxed);
+    }
+    id_ = 0;
+  }
   GLuint id() const { return id_; }
   explicit operator bool() const { return id_ != 0; }
+  static int64_t live() { return live_.load(std::memory_order_relaxed); }
 
  private:
   GLuint id_ = 0;
+  inline static std::atomic<int64_t> live_{0};
 };
+
+// GL names belong to the OpenGL context that made them (vertex arrays, framebuffers and
+// queries are never shared). While an OrphanScope(owner, true) lives on a thread, the deletes
+// below delete nothing and queue the objects for `owner` instead; deleteOrphans(current)
+// deletes those queued for the context current now (Blender's GPU module does the same).
+class OrphanScope {
+ public:
+  OrphanScope(const void* owner, bool away);
+  ~OrphanScope();
+  OrphanScope(const OrphanScope&) = delete;
+  OrphanScope& operator=(const OrphanScope&) = delete;
+
+ private:
+  const void* previousOwner_;
+  bool previous_;
+};
+void deleteOrphans(const void* current);
+int64_t orphanedObjects();  // queued, waiting for their context
 
 void deleteTexture(GLuint id);
 void deleteBuffer(GLuint id);

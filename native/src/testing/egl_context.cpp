@@ -65,6 +65,10 @@ EglContext::~EglContext() {
   eglTerminate(impl_->display);
 }
 
+bool EglContext::makeCurrent() const {
+  return eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context) == EGL_TRUE;
+}
+
 std::string EglContext::renderer() const {
   return reinterpret_cast<const char*>(glGetString(GL_RENDERER));
 }

@@ -12,6 +12,7 @@ class EglContext {
   EglContext();
   ~EglContext();
   std::string renderer() const;
+  bool makeCurrent() const;  // makes this context current again
 
  private:
   struct Impl;
