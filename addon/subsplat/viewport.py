@@ -1,11 +1,13 @@
 """The viewport's Rendered shading: one native context per viewport engine, kept in sync with the
 depsgraph incrementally (docs/VIEWPORT.md).
 
-Blender calls view_update() after every change and view_draw() for every redraw, both with the
-viewport's GL context current; the native context is created, used and released there. A camera
-move only redraws; an edit re-sends what it touched: a mesh whose geometry changed is exported
-again, a moved object is sent again from the arrays already exported, an edited material, light
-or setting is described again.
+Blender calls view_update() after every change and view_draw() for every redraw. Only view_draw()
+is sure to run with the viewport's GL context current (after a frame change Blender 3.4 calls
+view_update() with another context current), so view_update() only reads the depsgraph into
+arrays and descriptions, and view_draw() creates the native context, sends it what changed and
+renders. A camera move only redraws; an edit re-sends what it touched: a mesh whose geometry
+changed is exported again, a moved object is sent again from the arrays already exported, an
+edited material, light or setting is described again.
 """
 import sys
 import time
@@ -31,6 +33,8 @@ class Counters:
         self.light_exports = 0     # times the lights were sent
         self.full_syncs = 0
         self.draws = 0
+        self.update_ms = 0.0       # the last view_update: depsgraph to library (exports included)
+        self.draw_ms = 0.0         # the last view_draw: render, read back and display
 
     def as_dict(self):
         return dict(vars(self))
@@ -49,20 +53,25 @@ class ViewportSession:
         self.counters = Counters()
         self.error = None
         self.stats = {}
+        # What view_update() found changed, sent by the next view_draw() (pending_lights and
+        # pending_settings: None when unchanged).
+        self.pending_materials = {}   # material id -> MaterialDesc
+        self.pending_meshes = {}      # object id -> export_mesh() tuple
+        self.pending_removals = set()
+        self.pending_lights = None
+        self.pending_settings = None
 
     # -- updates -----------------------------------------------------------------------------
 
     def update(self, depsgraph):
+        start = time.perf_counter()
         try:
-            if self.context is None:
-                self.context = native.Context()
-                self._sync(depsgraph, full=True)
-            else:
-                self._sync(depsgraph, full=False)
+            self._sync(depsgraph, full=self.settings is None)
             self.error = None
         except (native.SubsplatError, export.ExportError) as error:
             self.error = str(error)
             print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
+        self.counters.update_ms = (time.perf_counter() - start) * 1e3
 
     def _sync(self, depsgraph, full):
         geometry, moved, materials = set(), set(), set()
@@ -91,7 +100,7 @@ class ViewportSession:
             material = bpy.data.materials.get(name)
             described = self.frame.refresh_material(material) if material is not None else None
             if described is not None:
-                self.context.set_material(*described)
+                self.pending_materials[described[0]] = described[1]
                 self.counters.material_exports += 1
 
         seen = set()
@@ -125,20 +134,20 @@ class ViewportSession:
         for key in set(self.objects) - seen:
             self._remove(key)
         if lights:
-            self.context.set_lights(light_descs)
+            self.pending_lights = light_descs
             self.counters.light_exports += 1
 
         scene = depsgraph.scene
         settings = export.native_settings(scene)
         settings.method = native.METHODS[VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)]
         if self.settings is None or bytes(settings) != bytes(self.settings):
-            self.context.set_settings(settings)
+            self.pending_settings = settings
             self.settings = settings
 
     def _send_new_materials(self, known):
         for name, (material_id, desc) in self.frame.materials.items():
             if name not in known:
-                self.context.set_material(material_id, desc)
+                self.pending_materials[material_id] = desc
                 self.counters.material_exports += 1
 
     def _new_id(self):
@@ -148,18 +157,40 @@ class ViewportSession:
         return self.next_id - 1
 
     def _upload(self, entry):
-        export.send_mesh(self.context, *entry)
-        self.counters.mesh_uploads += 1
+        self.pending_meshes[entry[0]] = entry[1]
+        self.pending_removals.discard(entry[0])
 
     def _remove(self, key):
         object_id = self.objects.pop(key)[0]
-        self.context.remove_mesh(object_id)
+        self.pending_meshes.pop(object_id, None)
+        self.pending_removals.add(object_id)
         self.free_ids.append(object_id)
+
+    def _send_pending(self):
+        """Sends what view_update() found changed; the viewport's GL context is current."""
+        if self.context is None:
+            self.context = native.Context()
+        for material_id, desc in self.pending_materials.items():
+            self.context.set_material(material_id, desc)
+        self.pending_materials.clear()
+        for object_id in self.pending_removals:
+            self.context.remove_mesh(object_id)
+        self.pending_removals.clear()
+        while self.pending_meshes:
+            object_id, mesh = self.pending_meshes.popitem()
+            export.send_mesh(self.context, object_id, mesh)
+            self.counters.mesh_uploads += 1
+        if self.pending_lights is not None:
+            self.context.set_lights(self.pending_lights)
+            self.pending_lights = None
+        if self.pending_settings is not None:
+            self.context.set_settings(self.pending_settings)
+            self.pending_settings = None
 
     # -- drawing -----------------------------------------------------------------------------
 
     def draw(self, engine, context, depsgraph):
-        if self.context is None or self.error is not None:
+        if self.settings is None or self.error is not None:
             engine.update_stats("", f"SubSplat: {self.error or 'waiting for the scene'}")
             return
         scene = depsgraph.scene
@@ -170,9 +201,10 @@ class ViewportSession:
         camera.world_to_view = native.Float16(*export.column_major(view.view_matrix))
         camera.view_to_clip = native.Float16(*export.column_major(view.window_matrix))
         camera.orthographic = 0 if view.is_perspective else 1
+        start = time.perf_counter()
         try:
+            self._send_pending()
             self.context.set_camera(camera)
-            start = time.perf_counter()
             pixels = self.context.render(width, height)
             frame_ms = (time.perf_counter() - start) * 1e3
             self.stats = self.context.stats()
@@ -190,6 +222,7 @@ class ViewportSession:
         draw_texture_2d(texture, (0, 0), region.width, region.height)
         engine.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
+        self.counters.draw_ms = (time.perf_counter() - start) * 1e3
         method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
         engine.update_stats("", f"SubSplat {method}: {frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "

@@ -16,58 +16,17 @@ passes, 1 otherwise; screenshots go to $SUBSPLAT_TEST_OUTPUT/viewport_*.png.
 import math
 import os
 import sys
-import traceback
 
 import bpy
 import numpy as np
 
-OUTPUT = os.environ.get("SUBSPLAT_TEST_OUTPUT", os.path.join(os.getcwd(), "test_output"))
-os.makedirs(OUTPUT, exist_ok=True)
-failures = []
-
-
-def check(condition, message):
-    print(("ok: " if condition else "FAILED: ") + message, flush=True)
-    if not condition:
-        failures.append(message)
-
-
-def areas():
-    window = bpy.context.window_manager.windows[0]
-    by_type = {area.type: area for area in window.screen.areas}
-    return window, by_type
-
-
-def screenshot(name):
-    """The whole window as float RGB (rows bottom first), also saved as a PNG."""
-    window, by_type = areas()
-    path = os.path.join(OUTPUT, f"viewport_{name}.png")
-    with bpy.context.temp_override(window=window, area=by_type["VIEW_3D"]):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path)
-    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(image.size[1], image.size[0], 4)[..., :3]
-    bpy.data.images.remove(image)
-    return pixels
-
-
-def crop(pixels, area):
-    """The pixels of one area (window coordinates, bottom-left origin)."""
-    return pixels[area.y:area.y + area.height, area.x:area.x + area.width]
-
-
-def region(area, kind):
-    return next(r for r in area.regions if r.type == kind)
-
-
-def crop_region(pixels, r):
-    return pixels[r.y:r.y + r.height, r.x:r.x + r.width]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, enable_addon, redraw,  # noqa: E402
+                        region, run_steps, screenshot)
 
 
 def setup():
-    import addon_utils
-    addon_utils.enable("subsplat", default_set=True)
-    import subsplat
-    subsplat.engine.exit_on_error = False
+    subsplat = enable_addon()
     scene = bpy.context.scene
     for obj in list(scene.objects):
         bpy.data.objects.remove(obj)
@@ -104,28 +63,8 @@ def setup():
     return subsplat, scene, sphere, material, light, view
 
 
-def redraw():
-    for area in bpy.context.window_manager.windows[0].screen.areas:
-        area.tag_redraw()
-
-
-def drawn(subsplat, draws, timeout=120.0):
-    """Yields timer intervals until the viewport has drawn more than `draws` times (and then once
-    more, for the window to show it)."""
-    waited = 0.0
-    while subsplat.last_viewport().get("draws", 0) <= draws and waited < timeout:
-        redraw()
-        yield 0.5
-        waited += 0.5
-    redraw()
-    yield 1.0
-
-
 def steps():
-    # Opening a file closes the splash screen that --factory-startup shows.
-    path = os.path.join(OUTPUT, "viewport_test.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=path)
-    bpy.ops.wm.open_mainfile(filepath=path)
+    close_splash("viewport_test")
     yield 1.0
     subsplat, scene, sphere, material, light, view = setup()
     scene.render.engine = "BLENDER_WORKBENCH"
@@ -195,27 +134,4 @@ def steps():
     check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
 
 
-def main():
-    sequence = steps()
-
-    def tick():
-        try:
-            return next(sequence)
-        except StopIteration:
-            finish()
-        except Exception:  # a broken test must fail, not hang the UI
-            traceback.print_exc()
-            failures.append("exception")
-            finish()
-        return None
-
-    bpy.app.timers.register(tick, first_interval=1.0, persistent=True)
-
-
-def finish():
-    print(f"{len(failures)} failed" if failures else "all viewport checks passed", flush=True)
-    sys.stdout.flush()
-    os._exit(1 if failures else 0)
-
-
-main()
+run_steps(steps())

@@ -1,0 +1,162 @@
+"""The viewport follows a deforming mesh, does not leak, and lets go of everything when it closes.
+
+In Blender with its UI (under Xvfb), finger_pose.blend (an armature and a shape key) in Rendered
+shading with SubSplat:
+- a frame change exports the deformed finger again (and nothing else) and the image changes;
+  going back to the first frame gives the first image again (no stale frame);
+- 300 redraws, each after a frame change, keep the library's handles and GL objects constant and
+  the process's memory flat;
+- switching the viewport to Solid, switching the engine to Workbench and reloading the file each
+  release the viewport's native context. Blender frees the engine with another GL context current,
+  so its GL objects wait (orphaned) and are deleted at the next draw in the viewport's context.
+
+Run as CTest's blender_ui_test_viewport_animation does (xvfb-run ... blender --factory-startup
+--python test_viewport_animation.py). Screenshots go to $SUBSPLAT_TEST_OUTPUT/viewport_anim_*.png.
+"""
+import gc
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ui_helpers import areas, check, crop_region, drawn, enable_addon, region, run_steps, screenshot  # noqa: E402
+
+SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
+EXAMPLE = os.path.join(SOURCE, "example_blends", "finger_pose.blend")
+REDRAWS = 300
+
+
+def resident_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def rendered_view(scene):
+    window, by_type = areas()
+    view = by_type["VIEW_3D"].spaces.active
+    view.overlay.show_overlays = False
+    view.region_3d.view_perspective = "CAMERA"
+    view.shading.type = "RENDERED"
+    return view
+
+
+def viewport_pixels(name):
+    _, by_type = areas()
+    return crop_region(screenshot(name, prefix="viewport_anim"), region(by_type["VIEW_3D"], "WINDOW"))
+
+
+def skin_pixels(pixels):
+    """Pixels of the finger's warm skin colour (red well above blue)."""
+    return int(np.count_nonzero(pixels[..., 0] > pixels[..., 2] + 0.12))
+
+
+def released(subsplat, what):
+    """Yields until no native context is left (Blender frees the engine on its next redraws)."""
+    for _ in range(20):
+        yield 0.2
+        gc.collect()
+        if subsplat.native.resource_counts()["contexts"] == 0:
+            break
+    counts = subsplat.native.resource_counts()
+    check(counts["contexts"] == 0, f"{what} releases the viewport's native context ({counts})")
+    print(f"{what}: {counts['orphaned_gl_objects']} GL objects wait for the viewport's GL context", flush=True)
+    gl_objects = sum(counts[k] for k in ("textures", "buffers", "framebuffers", "vertex_arrays", "programs",
+                                         "queries"))
+    check(gl_objects == 0, f"{what}: no GL object of the library is left ({counts})")
+
+
+def orphans_deleted(what):
+    import subsplat
+    counts = subsplat.native.resource_counts()
+    check(counts["orphaned_gl_objects"] == 0,
+          f"{what} deletes the released context's GL objects in their own GL context ({counts})")
+
+
+def steps():
+    subsplat = enable_addon()
+    bpy.ops.wm.open_mainfile(filepath=EXAMPLE)
+    yield 1.0
+    scene = bpy.context.scene
+    scene.subsplat.viewport_scale = "4"
+    scene.subsplat.irradiance_resolution = 128
+    scene.frame_set(1)
+    rendered_view(scene)
+    yield from drawn(subsplat, 0)
+    first = subsplat.last_viewport()
+    check(first.get("draws", 0) > 0 and first.get("error") is None, f"the viewport drew: {first}")
+    frame_1 = viewport_pixels("frame_1")
+    check(skin_pixels(frame_1) > 500, f"the skin finger shows at frame 1 ({skin_pixels(frame_1)} skin pixels)")
+
+    before = subsplat.last_viewport()
+    scene.frame_set(24)
+    yield from drawn(subsplat, before["draws"])
+    after = subsplat.last_viewport()
+    check(after["mesh_exports"] == before["mesh_exports"] + 1,
+          f"a frame change exports the deformed finger once ({before['mesh_exports']} -> {after['mesh_exports']})")
+    for counter in ("material_exports", "light_exports", "full_syncs"):
+        check(after[counter] == before[counter], f"a frame change sends no {counter}")
+    check(after["error"] is None, f"no error after the frame change ({after['error']})")
+    frame_24 = viewport_pixels("frame_24")
+    check(skin_pixels(frame_24) > 500, f"the skin finger shows at frame 24 ({skin_pixels(frame_24)} skin pixels)")
+    changed = float(np.mean(np.abs(frame_24 - frame_1).max(axis=-1) > 0.05))
+    check(changed > 0.02, f"the image follows the pose ({changed:.1%} of the view changed)")
+
+    before = subsplat.last_viewport()
+    scene.frame_set(1)
+    yield from drawn(subsplat, before["draws"])
+    again = viewport_pixels("frame_1_again")
+    difference = float(np.abs(again - frame_1).max())
+    check(difference < 2.5 / 255, f"back at frame 1 the image is frame 1's again (largest difference {difference:.4f})")
+
+    # Soak: a frame change and a redraw, REDRAWS times.
+    counts, memory = [], []
+    for i in range(REDRAWS):
+        draws = subsplat.last_viewport()["draws"]
+        scene.frame_set(1 + i % 24)
+        yield from drawn(subsplat, draws, settle=0.0)
+        counts.append(subsplat.native.resource_counts())
+        memory.append(resident_bytes())
+    final = subsplat.last_viewport()
+    check(final["error"] is None, f"no error in {REDRAWS} redraws ({final['error']})")
+    check(final["draws"] >= first["draws"] + REDRAWS, f"{REDRAWS} redraws happened ({final['draws']} draws)")
+    check(all(c == counts[0] for c in counts), f"handles and GL objects stay at {counts[0]} (last: {counts[-1]})")
+    settled = np.asarray(memory[50:], dtype=np.float64)
+    growth = settled[-1] - settled[0]
+    slope = np.polyfit(np.arange(len(settled)), settled, 1)[0]
+    print(f"resident memory: {memory[0] / 2**20:.1f} MiB after the first soak redraw, {settled[0] / 2**20:.1f} "
+          f"after 50, {settled[-1] / 2**20:.1f} after {REDRAWS}; slope {slope / 1024:.1f} KiB per redraw; "
+          f"last update {final['update_ms']:.0f} ms, draw {final['draw_ms']:.0f} ms", flush=True)
+    check(growth < 24 * 2**20, f"memory stays flat over the last {REDRAWS - 50} redraws (+{growth / 2**20:.1f} MiB)")
+    check(slope < 48 * 1024, f"memory has no steady slope ({slope / 1024:.1f} KiB per redraw)")
+
+    view = rendered_view(scene)
+    view.shading.type = "SOLID"
+    yield from released(subsplat, "switching the viewport to Solid")
+
+    view.shading.type = "RENDERED"
+    draws = subsplat.last_viewport()["draws"]
+    yield from drawn(subsplat, draws)
+    check(subsplat.native.resource_counts()["contexts"] == 1, "Rendered shading again makes one native context")
+    orphans_deleted("drawing in Rendered shading again")
+    scene.render.engine = "BLENDER_WORKBENCH"
+    yield from released(subsplat, "switching the engine to Workbench")
+
+    scene.render.engine = "SUBSPLAT"
+    draws = subsplat.last_viewport()["draws"]
+    yield from drawn(subsplat, draws)
+    check(subsplat.native.resource_counts()["contexts"] == 1, "SubSplat again makes one native context")
+    orphans_deleted("drawing with SubSplat again")
+    bpy.ops.wm.open_mainfile(filepath=EXAMPLE)
+    yield from released(subsplat, "reloading the file")
+    rendered_view(bpy.context.scene)
+    for _ in range(100):  # until the new viewport engine has drawn (made its context)
+        yield 0.2
+        if subsplat.native.resource_counts()["contexts"] == 1:
+            break
+    check(subsplat.native.resource_counts()["contexts"] == 1, "the reloaded file's viewport makes one native context")
+    orphans_deleted("drawing the reloaded file")
+
+
+run_steps(steps())
