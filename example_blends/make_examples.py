@@ -204,8 +204,142 @@ def heterogeneous():
     return scene
 
 
+def capsule_mesh(name, radius, length, segments=48, rings=48, cap_rings=8, taper=0.0):
+    """A capsule along +z from its base at z = 0 (a candle, a finger): a side of `rings` rows, so it
+    bends smoothly, a flat base and a rounded tip; u runs around, v along. `taper` narrows the tip."""
+    import numpy as np
+    rows = []  # (z, radius, v) from the base up
+    for i in range(rings + 1):
+        t = i / rings
+        rows.append((t * length, radius * (1.0 - taper * t), 0.1 + 0.8 * t))
+    tip = radius * (1.0 - taper)
+    for i in range(1, cap_rings):
+        a = 0.5 * math.pi * i / cap_rings
+        rows.append((length + tip * math.sin(a), tip * math.cos(a), 0.9 + 0.1 * i / cap_rings))
+    vertices, uvs_by_vertex = [], []
+    for z, r, v in rows:
+        for j in range(segments + 1):  # the seam column is doubled for the UVs
+            angle = 2.0 * math.pi * j / segments
+            vertices.append((r * math.cos(angle), r * math.sin(angle), z))
+            uvs_by_vertex.append((j / segments, v))
+    columns = segments + 1
+    faces = []
+    for i in range(len(rows) - 1):
+        for j in range(segments):
+            a = i * columns + j
+            faces.append((a, a + 1, a + 1 + columns, a + columns))
+    top = len(vertices)
+    vertices.append((0.0, 0.0, length + tip))
+    uvs_by_vertex.append((0.5, 1.0))
+    last = (len(rows) - 1) * columns
+    faces += [(last + j, last + j + 1, top) for j in range(segments)]
+    bottom = len(vertices)
+    vertices.append((0.0, 0.0, 0.0))
+    uvs_by_vertex.append((0.5, 0.0))
+    faces += [(j + 1, j, bottom) for j in range(segments)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    mesh.update()
+    layer = mesh.uv_layers.new(name="UVMap")
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    layer.data.foreach_set("uv", np.asarray(uvs_by_vertex, dtype=np.float32)[loop_vertex].ravel())
+    for polygon in mesh.polygons:
+        polygon.use_smooth = True
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def keyframes(owner, path, frames_values):
+    for frame, value in frames_values:
+        setattr(owner, path, value)
+        owner.keyframe_insert(path, frame=frame)
+
+
+def candle_twist():
+    """A candle of milky and clear wax bands (varying_wax.exr, heterogeneous) that bends and twists
+    over 48 frames (Simple Deform modifiers): a deforming mesh with nothing precomputed per frame."""
+    scene = reset()
+    scene.frame_start, scene.frame_end = 1, 48
+    candle = capsule_mesh("TwistingCandle", radius=0.3, length=1.8, segments=64, rings=60)
+    candle.location = (0.0, 0.0, -1.0)
+    candle.data.materials.append(subedit("BandedWax", "varying_wax", mm_per_unit=310.0, roughness=0.4))
+    twist = candle.modifiers.new("Twist", "SIMPLE_DEFORM")
+    twist.deform_method, twist.deform_axis = "TWIST", "Z"
+    keyframes(twist, "angle", [(1, 0.0), (48, math.radians(180))])
+    bend = candle.modifiers.new("Bend", "SIMPLE_DEFORM")
+    bend.deform_method, bend.deform_axis = "BEND", "Y"
+    keyframes(bend, "angle", [(1, 0.0), (24, math.radians(70)), (48, math.radians(-40))])
+    floor(z=-1.0)
+    camera((0.0, -5.0, 0.9), (0, 0, 0.0))
+    light("SPOT", (1.2, 2.8, 1.6), energy=1500.0, spot_size=math.radians(55), spot_blend=0.3,
+          color=(1.0, 0.9, 0.75), shadow_soft_size=0.0)
+    light("SUN", (-3, -2, 3), energy=2.0, color=(0.8, 0.85, 1.0), angle=0.0)
+    return scene
+
+
+def finger_pose():
+    """A skin finger (three armature bones, weighted by hand) that curls from straight to bent over
+    24 frames while a shape key swells its knuckles: a character-like pose change, backlit."""
+    scene = reset()
+    scene.frame_start, scene.frame_end = 1, 24
+    finger = capsule_mesh("Finger", radius=0.22, length=2.0, segments=48, rings=72, taper=0.25)
+    finger.rotation_euler = (0.0, math.radians(90), 0.0)  # along +x
+    finger.location = (-1.1, 0.0, -0.6)
+    finger.data.materials.append(translucent("Skin", "SKIN1", mm_per_unit=40.0))
+    # Shape key: the knuckles swell as the finger bends.
+    finger.shape_key_add(name="Basis")
+    swell = finger.shape_key_add(name="Knuckles")
+    for vertex, key in zip(finger.data.vertices, swell.data):
+        z = vertex.co.z
+        bump = sum(math.exp(-((z - k) / 0.12) ** 2) for k in (0.7, 1.35))
+        key.co = (vertex.co.x * (1 + 0.12 * bump), vertex.co.y * (1 + 0.12 * bump), z)
+    keyframes(swell, "value", [(1, 0.0), (24, 1.0)])
+    # Armature: three bones along the finger's local z, weights blended across each joint.
+    armature_data = bpy.data.armatures.new("FingerRig")
+    rig = bpy.data.objects.new("FingerRig", armature_data)
+    scene.collection.objects.link(rig)
+    rig.location, rig.rotation_euler = finger.location, finger.rotation_euler
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    joints = (0.0, 0.7, 1.35, 2.2)
+    bones = []
+    for k in range(3):
+        bone = armature_data.edit_bones.new(f"Phalanx{k}")
+        bone.head, bone.tail = (0, 0, joints[k]), (0, 0, joints[k + 1])
+        if bones:
+            bone.parent, bone.use_connect = bones[-1], True
+        bones.append(bone)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    groups = [finger.vertex_groups.new(name=f"Phalanx{k}") for k in range(3)]
+    for vertex in finger.data.vertices:
+        z = vertex.co.z
+        weights = [0.0, 0.0, 0.0]
+        for k in range(3):
+            low, high = joints[k], joints[k + 1]
+            inside = min(max((z - low) / 0.15 + 0.5, 0.0), 1.0) if k > 0 else 1.0
+            below = min(max((high - z) / 0.15 + 0.5, 0.0), 1.0) if k < 2 else 1.0
+            weights[k] = inside * below
+        total = sum(weights) or 1.0
+        for k in range(3):
+            if weights[k] > 0.0:
+                groups[k].add([vertex.index], weights[k] / total, "REPLACE")
+    finger.modifiers.new("Armature", "ARMATURE").object = rig
+    for k, bend in enumerate((55, 70, 45)):
+        pose = rig.pose.bones[f"Phalanx{k}"]
+        pose.rotation_mode = "XYZ"
+        keyframes(pose, "rotation_euler", [(1, (0.0, 0.0, 0.0)), (24, (0.0, 0.0, math.radians(bend)))])
+    floor(z=-1.0)
+    camera((0.0, -5.5, 1.0), (0.0, 0, -0.1))
+    light("SPOT", (0.8, 2.6, 1.2), energy=1200.0, spot_size=math.radians(60), spot_blend=0.3,
+          color=(1.0, 0.95, 0.9), shadow_soft_size=0.0)
+    light("SUN", (-3, -2, 3), energy=2.0, color=(0.8, 0.85, 1.0), angle=0.0)
+    return scene
+
+
 EXAMPLES = {"skin_suzanne": skin_suzanne, "marble_pieces": marble_pieces, "wax_jade": wax_jade,
-            "heterogeneous": heterogeneous}
+            "heterogeneous": heterogeneous, "candle_twist": candle_twist, "finger_pose": finger_pose}
 
 
 def main():

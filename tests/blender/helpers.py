@@ -142,8 +142,8 @@ def blender_command(*args):
     return [executable, "-b", "--factory-startup", "--addons", "subsplat", *args]
 
 
-def run_blender(*args, timeout=600):
-    return subprocess.run(blender_command(*args), capture_output=True, text=True, timeout=timeout)
+def run_blender(*args, timeout=600, env=None):
+    return subprocess.run(blender_command(*args), capture_output=True, text=True, timeout=timeout, env=env)
 
 
 def failed_batch_render(name):

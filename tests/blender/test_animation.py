@@ -1,0 +1,178 @@
+"""Animation renders of deforming meshes, as a render farm runs them:
+- frames rendered in one `blender -b -a` process equal the same frames rendered one by one, each in
+  a process of its own, for the modifier-deformed heterogeneous candle, the armature and shape-key
+  finger, and a mesh whose vertex count changes every frame, within 1e-6 of each pixel's value.
+  Most runs are bit for bit the same; a few pixels may differ in their last bits because Blender
+  3.4's own corner normals of a deformed mesh differ in their last bit from process to process
+  (it sums face normals into vertices on several threads; docs/ANIMATION.md), not because of
+  anything the library keeps between frames;
+- 300 renders of a deforming mesh in one process leave the library's handles and GL objects at zero
+  after each render and the process's memory flat.
+
+Images of the compared frames and of any difference go to $SUBSPLAT_TEST_OUTPUT/animation_*.
+"""
+import glob
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
+subsplat = helpers.enable_addon()
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+# Blender's corner normals of a deformed mesh may differ in their last bit between processes.
+SAME_FRAME_BOUND = 1e-6
+# Small frames keep the many processes cheap; the settings are the scene's own otherwise.
+SMALL = ("import bpy; s = bpy.context.scene; s.render.resolution_percentage = 25; "
+         "s.render.image_settings.file_format = 'OPEN_EXR'; s.render.image_settings.color_depth = '32'")
+
+
+def read_exr(path):
+    image = bpy.data.images.load(path, check_existing=False)
+    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    shape = (image.size[1], image.size[0], 4)
+    bpy.data.images.remove(image)
+    return pixels.reshape(shape)
+
+
+def growing_mesh_scene():
+    """A skin sphere whose subdivision level is animated 0, 1, 2, 1: its vertex count changes every
+    frame. Saved as animation_growing.blend."""
+    scene = helpers.empty_scene(200, 150)
+    scene.render.engine = "SUBSPLAT"
+    scene.frame_start, scene.frame_end = 1, 4
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=1.0)
+    sphere = bpy.context.object
+    sphere.name = "GrowingSphere"
+    material = bpy.data.materials.new("Skin")
+    material.subsplat.enabled = True
+    material.subsplat.preset = "SKIN1"
+    material.subsplat.mm_per_unit = 30.0
+    sphere.data.materials.append(material)
+    subdivision = sphere.modifiers.new("Subdivision", "SUBSURF")
+    for frame, level in ((1, 0), (2, 1), (3, 2), (4, 1)):
+        subdivision.levels = subdivision.render_levels = level
+        subdivision.keyframe_insert("levels", frame=frame)
+        subdivision.keyframe_insert("render_levels", frame=frame)
+    camera = helpers.top_down_camera(scene, ortho_scale=3.0)
+    camera.data.type = "PERSP"
+    helpers.add_light(scene, "SUN", rotation=(0.6, 0.3, 0.0), energy=3.0)
+    path = os.path.join(helpers.OUTPUT, "animation_growing.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    vertex_counts = []
+    for frame in range(1, 5):
+        scene.frame_set(frame)
+        evaluated = sphere.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        vertex_counts.append(len(evaluated.data.vertices))
+    return path, vertex_counts
+
+
+class AnimationRendersAreDeterministic(unittest.TestCase):
+    def render_sequence_and_singles(self, name, path, frames, env=None):
+        """(sequence frames, single frames): dicts frame -> pixels. env: extra environment variables."""
+        env = dict(os.environ, **(env or {}))
+        sequence_out = os.path.join(helpers.OUTPUT, f"animation_{name}_sequence_")
+        single_out = os.path.join(helpers.OUTPUT, f"animation_{name}_single_")
+        for old in glob.glob(sequence_out + "*") + glob.glob(single_out + "*"):
+            os.remove(old)
+        first, last, step = frames[0], frames[-1], frames[1] - frames[0]
+        result = helpers.run_blender(path, "--python-expr", SMALL, "-E", "SUBSPLAT", "-o", sequence_out,
+                                     "-s", str(first), "-e", str(last), "-j", str(step), "-a", env=env)
+        self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
+        sequence = {f: read_exr(f"{sequence_out}{f:04d}.exr") for f in frames}
+        singles = {}
+        for f in frames:
+            result = helpers.run_blender(path, "--python-expr", SMALL, "-E", "SUBSPLAT", "-o", single_out,
+                                         "-f", str(f), env=env)
+            self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
+            singles[f] = read_exr(f"{single_out}{f:04d}.exr")
+        return sequence, singles
+
+    def assert_same(self, name, sequence, singles, relative):
+        """Every pixel of every frame within `relative` of its value (0: bit for bit)."""
+        frames = sorted(sequence)
+        for f in frames:
+            a, b = sequence[f], singles[f]
+            self.assertEqual(a.shape, b.shape)
+            self.assertTrue(np.all(np.isfinite(a)))
+            off = np.abs(a - b).max(axis=-1)
+            allowed = relative * np.abs(b).max(axis=-1)
+            differing = int(np.count_nonzero(off > 0))
+            worst = float((off / np.maximum(np.abs(b).max(axis=-1), 1e-30)).max())
+            print(f"{name} frame {f}: {differing} pixels differ, largest by {worst:.2e} of the pixel's value")
+            if np.any(off > allowed):
+                path = helpers.write_difference(f"animation_{name}_{f:04d}", a, b)
+                self.fail(f"{name} frame {f}: {int(np.count_nonzero(off > allowed))} pixels differ by more than "
+                          f"{relative:g} of their value between the -a run and the single render (largest "
+                          f"{worst:.2e}); see {path}")
+        # The frames are of a moving object: comparing them would prove nothing if they were all alike.
+        for f, g in zip(frames, frames[1:]):
+            changed = float(np.mean(np.any(np.abs(sequence[f] - sequence[g]) > 1e-4, axis=-1)))
+            self.assertGreater(changed, 0.01, f"{name}: frames {f} and {g} look the same; nothing deformed")
+
+    def test_modifier_deformed_heterogeneous_candle(self):
+        path = os.path.join(helpers.SOURCE, "example_blends", "candle_twist.blend")
+        sequence, singles = self.render_sequence_and_singles("candle", path, [1, 17, 33])
+        self.assert_same("candle", sequence, singles, SAME_FRAME_BOUND)
+
+    def test_armature_and_shape_key_finger(self):
+        path = os.path.join(helpers.SOURCE, "example_blends", "finger_pose.blend")
+        sequence, singles = self.render_sequence_and_singles("finger", path, [1, 12, 23])
+        self.assert_same("finger", sequence, singles, SAME_FRAME_BOUND)
+
+    def test_vertex_count_changing_every_frame(self):
+        path, vertex_counts = growing_mesh_scene()
+        self.assertEqual(len(set(vertex_counts[:3])), 3, f"vertex counts {vertex_counts}")
+        sequence, singles = self.render_sequence_and_singles("growing", path, [1, 2, 3, 4])
+        self.assert_same("growing", sequence, singles, SAME_FRAME_BOUND)
+
+
+def resident_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+class ManyRendersDoNotLeak(unittest.TestCase):
+    RENDERS = 300
+
+    def test_300_renders_of_a_deforming_mesh(self):
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "example_blends", "candle_twist.blend"))
+        scene = bpy.context.scene
+        scene.render.resolution_x, scene.render.resolution_y = 80, 60
+        scene.subsplat.irradiance_resolution = 128
+        scene.render.filepath = os.path.join(helpers.OUTPUT, "animation_soak_")
+        memory, baseline = [], None
+        for i in range(self.RENDERS):
+            scene.frame_set(1 + i % 48)
+            bpy.ops.render.render()
+            self.assertIsNone(subsplat.last_render_error())
+            stats = subsplat.last_render_stats()
+            self.assertEqual(stats["nonfinite_pixels"], 0)
+            self.assertGreater(stats["translucent_pixels"], 100)
+            counts = subsplat.native.resource_counts()
+            # After a render no context and no GL object is left; the SubEdit file's profile set
+            # stays cached from the first render on.
+            held = {k: v for k, v in counts.items() if k != "profile_sets"}
+            self.assertEqual(held, dict.fromkeys(held, 0), f"render {i}: the library still holds {counts}")
+            baseline = baseline or counts
+            self.assertEqual(counts, baseline, f"render {i}: {counts}, after the first render {baseline}")
+            memory.append(resident_bytes())
+        # The first renders fill caches (kernel tables, shaders in the driver); after them memory
+        # must stay flat: growth over the last 250 renders below 16 MiB, and no steady slope
+        # (a leak of one frame's mesh arrays would add ~37 MiB, of its pixels ~19 MiB).
+        settled = np.asarray(memory[50:], dtype=np.float64)
+        growth = settled[-1] - settled[0]
+        slope = np.polyfit(np.arange(len(settled)), settled, 1)[0]
+        print(f"resident memory: {memory[0] / 2**20:.1f} MiB after the first render, "
+              f"{settled[0] / 2**20:.1f} MiB after 50, {settled[-1] / 2**20:.1f} MiB after {self.RENDERS}; "
+              f"slope {slope / 1024:.1f} KiB per render")
+        self.assertLess(growth, 16 * 2**20)
+        self.assertLess(slope, 32 * 1024)
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
