@@ -53,7 +53,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
     bl_label = "SubSplat"
     bl_use_gpu_context = True
     bl_use_shading_nodes_custom = False
-    bl_use_preview = False
+    bl_use_preview = True
 
     def __init__(self):
         # Native GL objects belong to the render GL context: the native
@@ -127,8 +127,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         start = time.perf_counter()
         frame = export.export_frame(depsgraph, width, height)
         export_ms = (time.perf_counter() - start) * 1e3
-        for warning in frame.warnings:
-            self.report({"WARNING"}, f"SubSplat: {warning}")
+        if not self.is_preview:  # the material preview scene's area lights are Blender's, not the user's
+            for warning in frame.warnings:
+                self.report({"WARNING"}, f"SubSplat: {warning}")
 
         self._context = native.Context()
         context = self._context
@@ -153,10 +154,10 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         pixels = context.render(width, height, progress)
         exitance = context.exitance_pass(width, height)
         stats = context.stats()
-        if settings.scene_file:
+        if settings.scene_file and not self.is_preview:
             stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
             context.save_scene(stats["scene_file"])
-        stats.update(method=settings.method, export_ms=export_ms, meshes=len(frame.meshes),
+        stats.update(method=settings.method, preview=self.is_preview, export_ms=export_ms, meshes=len(frame.meshes),
                      lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution,
                      reference_samples=settings.reference_samples)
         _last_stats.clear()

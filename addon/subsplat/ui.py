@@ -128,12 +128,17 @@ CLASSES = (SUBSPLAT_PT_render, SUBSPLAT_PT_material)
 
 # Stock panels that make sense for this engine (from the Blender template for external engines).
 EXCLUDED_PANELS = {"VIEWLAYER_PT_filter", "VIEWLAYER_PT_layer_passes", "RENDER_PT_eevee_performance"}
+# EEVEE's material panels that apply here too: the slots (with preview icons), the preview
+# (bl_use_preview: rendered by SubSplat) and the surface nodes (the Principled BSDF source).
+INCLUDED_PANELS = {"MATERIAL_PT_preview", "EEVEE_MATERIAL_PT_context_material", "EEVEE_MATERIAL_PT_surface"}
 
 
 def _stock_panels():
     for panel in bpy.types.Panel.__subclasses__():
         engines = getattr(panel, "COMPAT_ENGINES", None)
-        if engines is not None and "BLENDER_RENDER" in engines and panel.__name__ not in EXCLUDED_PANELS:
+        if engines is None or panel.__name__ in EXCLUDED_PANELS:
+            continue
+        if "BLENDER_RENDER" in engines or panel.__name__ in INCLUDED_PANELS:
             yield panel
 
 

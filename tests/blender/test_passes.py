@@ -1,6 +1,7 @@
 """Render passes a user can look at: SubSplat Exitance always; with Debug Passes, the selected
 samples per irradiance level and each splatting level's own exitance. They reach the render
-result (compositor, image editor) and scripts (last_render_passes)."""
+result (compositor, image editor) and scripts (last_render_passes). With Film > Transparent the
+Combined pass has alpha 0 (and no colour) where no object is, for compositing over a plate."""
 import math
 import os
 import sys
@@ -11,6 +12,7 @@ import helpers  # noqa: E402
 
 subsplat = helpers.enable_addon()
 import accuracy  # noqa: E402
+import numpy as np  # noqa: E402
 
 
 class DebugPasses(unittest.TestCase):
@@ -64,6 +66,31 @@ class DebugPasses(unittest.TestCase):
         passes = subsplat.last_render_passes()
         self.assertIn("SubSplat Exitance", passes)
         self.assertNotIn("SubSplat Samples", passes)
+
+
+class FilmTransparent(unittest.TestCase):
+    def test_background_alpha_is_zero_and_objects_opaque(self):
+        import bpy
+        scene = helpers.empty_scene(64, 64)
+        scene.world.color = (0.3, 0.4, 0.5)  # would show, were the film not transparent
+        material = bpy.data.materials.new("Skin")
+        material.subsplat.enabled = True
+        material.subsplat.preset = "SKIN1"
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.25)
+        bpy.context.object.data.materials.append(material)
+        helpers.top_down_camera(scene, ortho_scale=1.0)
+        helpers.add_light(scene, "SUN", rotation=(math.radians(20), 0, 0), energy=3.0, angle=0.0)
+        for transparent in (False, True):
+            scene.render.film_transparent = transparent
+            combined = helpers.render(scene, f"film_transparent_{transparent}")
+            corner, middle = combined[:8, :8].reshape(-1, 4), combined[28:36, 28:36].reshape(-1, 4)
+            self.assertTrue(np.all(middle[:, 3] == 1.0), "the sphere is opaque")
+            self.assertGreater(float(middle[:, :3].max()), 0.0)
+            if transparent:
+                self.assertTrue(np.all(corner == 0.0), f"transparent background: {corner[0]}")
+            else:
+                np.testing.assert_allclose(corner[:, :3], np.tile([0.3, 0.4, 0.5], (64, 1)), rtol=1e-5)
+                self.assertTrue(np.all(corner[:, 3] == 1.0))
 
 
 if __name__ == "__main__":

@@ -201,7 +201,7 @@ Program makeComputeProgram(const std::string& compute) {
 void checkErrors(const char* stage) {
   GLenum error = glGetError();
   if (error == GL_NO_ERROR) return;
-  while (glGetError() != GL_NO_ERROR) {
+  for (int i = 0; i < 32 && glGetError() != GL_NO_ERROR; ++i) {
   }
   const char* name = error == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY"
                      : error == GL_INVALID_OPERATION ? "GL_INVALID_OPERATION"
@@ -214,6 +214,10 @@ void checkErrors(const char* stage) {
 }
 
 StateGuard::StateGuard() {
+  // Errors the host left pending are not ours: without this, the first checkErrors of the
+  // call would report them (Blender's material preview thread leaves GL_INVALID_OPERATION).
+  for (int i = 0; i < 32 && glGetError() != GL_NO_ERROR; ++i) {
+  }
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFramebuffer_);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFramebuffer_);
   glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
