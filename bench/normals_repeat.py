@@ -1,6 +1,7 @@
-"""Are Blender's evaluated positions and corner normals of a deformed mesh the same in every
-process? Runs N Blender processes that each read finger_pose.blend's Finger at one frame through
-the add-on's export and print digests of the arrays the library would get (docs/ANIMATION.md).
+"""Are the evaluated positions and corner normals of a deformed mesh the same in every process?
+Runs N Blender processes that each read finger_pose.blend's Finger at one frame and print digests
+of its positions, of Blender's corner normals (calc_normals_split) and of the add-on's
+(export.mesh_arrays, what the library gets), then counts the distinct ones (docs/ANIMATION.md).
 
     python3 bench/normals_repeat.py [--runs 10] [--frame 12] [--blender blender]
 
@@ -20,7 +21,12 @@ scene.frame_set({frame})
 finger = bpy.data.objects["Finger"].evaluated_get(bpy.context.evaluated_depsgraph_get())
 mesh = finger.to_mesh()
 positions, normals, triangles, slots = export.mesh_arrays(mesh)
-print("DIGESTS", hashlib.md5(positions.tobytes()).hexdigest(), hashlib.md5(normals.tobytes()).hexdigest())
+mesh.calc_normals_split()
+blender = [0.0] * (len(mesh.loops) * 3)
+mesh.loops.foreach_get("normal", blender)
+digest = lambda data: hashlib.md5(data).hexdigest()
+import array
+print("DIGESTS", digest(positions.tobytes()), digest(array.array("f", blender).tobytes()), digest(normals.tobytes()))
 """
 
 
@@ -38,13 +44,12 @@ def main():
                                 capture_output=True, text=True, check=True)
         line = next(l for l in result.stdout.splitlines() if l.startswith("DIGESTS "))
         seen[tuple(line.split()[1:])] += 1
-    positions = collections.Counter()
-    normals = collections.Counter()
-    for (p, n), count in seen.items():
-        positions[p] += count
-        normals[n] += count
-    print(f"{args.runs} processes, frame {args.frame}: {len(positions)} distinct position arrays, "
-          f"{len(normals)} distinct normal arrays {sorted(normals.values(), reverse=True)}")
+    for k, name in enumerate(("position arrays", "Blender's normal arrays", "the add-on's normal arrays")):
+        counts = collections.Counter()
+        for digests, count in seen.items():
+            counts[digests[k]] += count
+        print(f"{args.runs} processes, frame {args.frame}: {len(counts)} distinct {name} "
+              f"{sorted(counts.values(), reverse=True)}")
 
 
 if __name__ == "__main__":

@@ -181,14 +181,54 @@ def material_desc(material, warnings=None):
     return desc
 
 
-def _corner_normals(mesh):
-    normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
-    if BLENDER_4:
-        mesh.corner_normals.foreach_get("vector", normals)
-    else:
-        mesh.calc_normals_split()
-        mesh.loops.foreach_get("normal", normals)
-    return normals.reshape(-1, 3)
+def _corner_normals(mesh, vertices, loop_vertex):
+    """Per-corner normals. Where Blender's rules are the plain ones (no custom split normals, no
+    auto smooth) they are computed here, in a fixed order: Blender 3.4 sums face normals into
+    vertices on several threads, so its normals of a deformed mesh differ in their last bit from
+    one process to the next, and so would the frames of a render farm (docs/ANIMATION.md)."""
+    if BLENDER_4 or mesh.has_custom_normals or mesh.use_auto_smooth:
+        normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+        if BLENDER_4:
+            mesh.corner_normals.foreach_get("vector", normals)
+        else:
+            mesh.calc_normals_split()
+            mesh.loops.foreach_get("normal", normals)
+        return normals.reshape(-1, 3)
+    return smooth_corner_normals(mesh, vertices, loop_vertex)
+
+
+def smooth_corner_normals(mesh, vertices, loop_vertex):
+    """Blender's corner normals without auto smooth, deterministically: face normals by Newell's
+    formula, vertex normals as the sum of the face normals around them weighted by the corner
+    angle, and each corner the vertex normal on smooth faces, the face normal on flat ones."""
+    count = len(mesh.polygons)
+    starts = np.empty(count, dtype=np.int64)
+    totals = np.empty(count, dtype=np.int64)
+    smooth = np.empty(count, dtype=bool)
+    mesh.polygons.foreach_get("loop_start", starts)
+    mesh.polygons.foreach_get("loop_total", totals)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    points = vertices.astype(np.float64)[loop_vertex]
+    first = np.repeat(starts, totals)
+    sides = np.repeat(totals, totals)
+    local = np.arange(len(loop_vertex)) - first
+    following = points[first + (local + 1) % sides]
+    preceding = points[first + (local - 1) % sides]
+    face = np.add.reduceat(np.cross(points, following), starts, axis=0) if count else np.zeros((0, 3))
+    length = np.linalg.norm(face, axis=1, keepdims=True)
+    face = np.divide(face, length, out=np.zeros_like(face), where=length > 0)
+    a, b = following - points, preceding - points
+    a /= np.maximum(np.linalg.norm(a, axis=1, keepdims=True), 1e-300)
+    b /= np.maximum(np.linalg.norm(b, axis=1, keepdims=True), 1e-300)
+    angle = np.arccos(np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0))
+    corner_face = np.repeat(face, totals, axis=0)
+    weighted = corner_face * angle[:, None]
+    vertex = np.stack([np.bincount(loop_vertex, weighted[:, c], minlength=len(mesh.vertices)) for c in range(3)],
+                      axis=1)
+    length = np.linalg.norm(vertex, axis=1, keepdims=True)
+    vertex = np.divide(vertex, length, out=np.zeros_like(vertex), where=length > 0)
+    corner = np.where(np.repeat(smooth, totals)[:, None], vertex[loop_vertex], corner_face)
+    return corner.astype(np.float32)
 
 
 def mesh_arrays(mesh):
@@ -202,8 +242,8 @@ def mesh_arrays(mesh):
     mesh.loop_triangles.foreach_get("loops", triangles)
     slots = np.empty(len(mesh.loop_triangles), dtype=np.uint32)
     mesh.loop_triangles.foreach_get("material_index", slots)
-    positions = vertices.reshape(-1, 3)[loop_vertex]
-    return positions, _corner_normals(mesh), triangles.reshape(-1, 3), slots
+    vertices = vertices.reshape(-1, 3)
+    return vertices[loop_vertex], _corner_normals(mesh, vertices, loop_vertex), triangles.reshape(-1, 3), slots
 
 
 def corner_uvs(mesh):

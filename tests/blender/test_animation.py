@@ -1,11 +1,10 @@
 """Animation renders of deforming meshes, as a render farm runs them:
 - frames rendered in one `blender -b -a` process equal the same frames rendered one by one, each in
-  a process of its own, for the modifier-deformed heterogeneous candle, the armature and shape-key
-  finger, and a mesh whose vertex count changes every frame, within 1e-4 of each pixel's value.
-  Many runs are bit for bit the same; a few hundred pixels may differ in their low bits because Blender
-  3.4's own corner normals of a deformed mesh differ in their last bit from process to process
-  (it sums face normals into vertices on several threads; docs/ANIMATION.md), not because of
-  anything the library keeps between frames;
+  a process of its own, bit for bit, for the modifier-deformed heterogeneous candle, the armature
+  and shape-key finger, and a mesh whose vertex count changes every frame: the library keeps
+  nothing between frames that changes a result, and the add-on computes corner normals in a fixed
+  order (Blender 3.4's own differ in their last bit between processes; docs/ANIMATION.md);
+- those corner normals are Blender's, to float32 rounding;
 - 300 renders of a deforming mesh in one process leave the library's handles and GL objects at zero
   after each render and the process's memory flat.
 
@@ -23,9 +22,8 @@ subsplat = helpers.enable_addon()
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-# Blender's corner normals of a deformed mesh may differ in their last bit between processes;
-# through the shading that has moved pixels by up to 6.4e-6 of their value (docs/ANIMATION.md).
-SAME_FRAME_BOUND = 1e-4
+# Frames of one scene rendered in different processes: bit for bit the same.
+SAME_FRAME_BOUND = 0.0
 # Small frames keep the many processes cheap; the settings are the scene's own otherwise.
 SMALL = ("import bpy; s = bpy.context.scene; s.render.resolution_percentage = 25; "
          "s.render.image_settings.file_format = 'OPEN_EXR'; s.render.image_settings.color_depth = '32'")
@@ -130,6 +128,41 @@ class AnimationRendersAreDeterministic(unittest.TestCase):
         self.assertEqual(len(set(vertex_counts[:3])), 3, f"vertex counts {vertex_counts}")
         sequence, singles = self.render_sequence_and_singles("growing", path, [1, 2, 3, 4])
         self.assert_same("growing", sequence, singles, SAME_FRAME_BOUND)
+
+
+class CornerNormals(unittest.TestCase):
+    """The add-on's own corner normals (export.smooth_corner_normals: a fixed summation order) are
+    Blender's, to float32 rounding, on smooth, flat and deformed meshes."""
+
+    def compare(self, obj):
+        from subsplat import export
+        mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+        try:
+            vertices = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+            mesh.vertices.foreach_get("co", vertices)
+            loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+            mesh.loops.foreach_get("vertex_index", loop_vertex)
+            ours = export.smooth_corner_normals(mesh, vertices.reshape(-1, 3), loop_vertex)
+            mesh.calc_normals_split()
+            blender = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+            mesh.loops.foreach_get("normal", blender)
+            difference = float(np.abs(ours - blender.reshape(-1, 3)).max())
+            print(f"{obj.name}: {len(mesh.loops)} corners, largest difference to Blender's {difference:.1e}")
+            self.assertLess(difference, 1e-4, obj.name)
+        finally:
+            obj.to_mesh_clear()
+
+    def test_examples_and_primitives(self):
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "example_blends", "finger_pose.blend"))
+        bpy.context.scene.frame_set(12)
+        self.compare(bpy.data.objects["Finger"])  # armature and shape key
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "example_blends", "skin_suzanne.blend"))
+        self.compare(bpy.data.objects["Suzanne"])  # subdivision surface, smooth
+        helpers.empty_scene(8, 8)
+        bpy.ops.mesh.primitive_cube_add()  # flat
+        self.compare(bpy.context.object)
+        bpy.ops.mesh.primitive_monkey_add()  # flat, with triangles and quads
+        self.compare(bpy.context.object)
 
 
 def resident_bytes():
