@@ -90,6 +90,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         global _last_error
+        state = native.gl_state() if viewport.check_gl_state else None
         scene = depsgraph.scene
         scale = scene.render.resolution_percentage / 100.0
         width = max(int(scene.render.resolution_x * scale), 1)
@@ -111,6 +112,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             if self._context is not None:
                 self._context.release_quietly()
                 self._context = None
+        if state is not None:
+            _last_stats["gl_state_changes"] = native.changed_gl_state(state, native.gl_state())
         if _last_error is not None and bpy.app.background and exit_on_error:
             # `blender -b ... -f N` exits 0 after a failed render, and a
             # SystemExit raised inside the render job hangs it: a farm must see

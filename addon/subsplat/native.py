@@ -155,6 +155,7 @@ def library():
             "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
             "ssReleaseProfileSet": [handle],
             "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
+            "ssDescribeGlState": [ctypes.c_char_p, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)],
         }
         for name, args in signatures.items():
             function = getattr(lib, name)
@@ -186,6 +187,20 @@ def resource_counts():
     counts = ResourceCounts()
     _check(library().ssGetResourceCounts(ctypes.byref(counts)))
     return {name: getattr(counts, name) for name, _ in ResourceCounts._fields_}
+
+
+def gl_state():
+    """Test hook: the current GL context's state a host relies on, {name: value text}."""
+    length = ctypes.c_uint32()
+    text = ctypes.create_string_buffer(1 << 16)
+    _check(library().ssDescribeGlState(text, len(text), ctypes.byref(length)))
+    lines = text.value.decode("ascii").splitlines()
+    return dict(line.split("=", 1) for line in lines)
+
+
+def changed_gl_state(before, after):
+    """The names whose values differ between two gl_state() results, sorted."""
+    return sorted(name for name in before if after.get(name) != before[name])
 
 
 def profile_info(material):

@@ -19,6 +19,11 @@ import numpy as np
 
 from . import export, native
 
+# Tests set check_gl_state = True: each viewport draw and render compares the GL state before and
+# after the library's calls (native.gl_state) and reports what changed, in last_viewport()
+# ["gl_state_changes"] and last_render_stats()["gl_state_changes"].
+check_gl_state = False
+
 # The method a viewport uses for each setting: REFERENCE takes minutes, so the viewport shows FULL.
 VIEWPORT_METHOD = {"REFERENCE": "FULL"}
 
@@ -33,6 +38,7 @@ class Counters:
         self.light_exports = 0     # times the lights were sent
         self.full_syncs = 0
         self.draws = 0
+        self.gl_state_changes = []  # with engine.check_gl_state: GL state the library left changed
         self.update_ms = 0.0       # the last view_update: depsgraph to library (exports included)
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
 
@@ -202,6 +208,7 @@ class ViewportSession:
         camera.view_to_clip = native.Float16(*export.column_major(view.window_matrix))
         camera.orthographic = 0 if view.is_perspective else 1
         start = time.perf_counter()
+        state = native.gl_state() if check_gl_state else None
         try:
             self._send_pending()
             self.context.set_camera(camera)
@@ -213,6 +220,9 @@ class ViewportSession:
             engine.update_stats("", f"SubSplat: {error}")
             print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
             return
+        if state is not None:
+            changes = native.changed_gl_state(state, native.gl_state())
+            self.counters.gl_state_changes = sorted(set(self.counters.gl_state_changes) | set(changes))
         self.counters.draws += 1
         pixels = np.ascontiguousarray(pixels, dtype=np.float32)
         texture = gpu.types.GPUTexture((width, height), format="RGBA16F",

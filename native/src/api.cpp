@@ -4,6 +4,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <utility>
 
 #include "gl/gl.h"
+#include "gl/state_report.h"
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
 #include "renderer.h"
@@ -165,6 +167,21 @@ SsStatus ssGetResourceCounts(SsResourceCounts* out) {
     out->programs = gl::Program::live();
     out->queries = gl::Query::live();
     out->orphaned_gl_objects = gl::orphanedObjects();
+  });
+}
+
+SsStatus ssDescribeGlState(char* buffer, uint32_t capacity, uint32_t* length) {
+  return guarded("ssDescribeGlState", [&] {
+    if (length) *length = 0;
+    if (buffer == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "buffer is NULL");
+    requireGlContext();
+    const std::string text = subsplat::gl::describeState();
+    if (length) *length = uint32_t(text.size());
+    if (text.size() + 1 > capacity)
+      subsplat::fail(SS_LIMIT_EXCEEDED, "buffer of " + std::to_string(capacity) + " bytes is too small for " +
+                                            std::to_string(text.size() + 1));
+    std::copy(text.begin(), text.end(), buffer);
+    buffer[text.size()] = '\0';
   });
 }
 

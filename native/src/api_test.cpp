@@ -1,8 +1,10 @@
 // The C API rejects bad input with a status and a message, and never crashes.
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -119,6 +121,88 @@ TEST(ApiResources, AnotherGlContextIsRefusedAndReleasingThereWaitsForTheOwner) {
   ASSERT_EQ(ssNewContext(&next), SS_OK);
   EXPECT_EQ(resourceCounts().orphaned_gl_objects, before.orphaned_gl_objects);
   ASSERT_EQ(ssReleaseContext(next), SS_OK);
+}
+
+std::string glState() {
+  std::vector<char> text(1 << 16);
+  uint32_t length = 0;
+  EXPECT_EQ(ssDescribeGlState(text.data(), uint32_t(text.size()), &length), SS_OK) << ssGetLastError();
+  return std::string(text.data(), length);
+}
+
+// The lines of `after` that differ from `before` ("" when none).
+std::string changed(const std::string& before, const std::string& after) {
+  std::istringstream a(before), b(after);
+  std::string x, y, out;
+  while (std::getline(a, x) && std::getline(b, y))
+    if (x != y) out += x + " -> " + y.substr(y.find('=') + 1) + "\n";
+  return out;
+}
+
+// The library leaves the host's GL state as it found it: every item ssDescribeGlState reports
+// (queried apart from StateGuard) is the same after uploads, renders and passes of each method.
+TEST(ApiGlState, EveryCallLeavesTheHostStateAsItWas) {
+  testing::EglContext gl;
+  char tiny[4];
+  EXPECT_EQ(ssDescribeGlState(tiny, sizeof tiny, nullptr), SS_LIMIT_EXCEEDED);
+  EXPECT_EQ(ssDescribeGlState(nullptr, 0, nullptr), SS_INVALID_ARGUMENT);
+  // A host state unlike the defaults: its own framebuffer, vertex array, buffers, textures,
+  // blending, culling, scissor, viewport and pixel store.
+  GLuint framebuffer = 0, colour = 0, vertexArray = 0, buffer = 0, texture = 0;
+  glGenTextures(1, &colour);
+  glBindTexture(GL_TEXTURE_2D, colour);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 8, 8);
+  glGenFramebuffers(1, &framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, colour, 0);
+  glGenVertexArrays(1, &vertexArray);
+  glBindVertexArray(vertexArray);
+  glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBindBuffer(GL_UNIFORM_BUFFER, buffer);
+  glGenTextures(1, &texture);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glEnable(GL_CULL_FACE);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(1, 2, 3, 4);
+  glViewport(0, 0, 7, 5);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 3);
+  glDepthMask(GL_FALSE);
+  glClearColor(0.1f, 0.2f, 0.3f, 0.4f);
+  const std::string before = glState();
+  ASSERT_FALSE(before.empty());
+
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  testing::Sphere sphere;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
+  EXPECT_EQ(changed(before, glState()), "") << "after the uploads";
+  std::vector<float> rgba(24 * 24 * 4);
+  for (SsMethod method : {SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL}) {
+    SsSettings settings{};
+    ASSERT_EQ(ssGetSettings(context, &settings), SS_OK);
+    settings.method = method;
+    settings.irradiance_resolution = 64;
+    settings.debug_passes = 1;
+    ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+    ASSERT_EQ(ssRender(context, 24, 24, rgba.data()), SS_OK) << ssGetLastError();
+    EXPECT_EQ(changed(before, glState()), "") << "after a render, method " << method;
+    for (int32_t pass : {SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE})
+      ASSERT_EQ(ssGetPass(context, pass, 24, 24, rgba.data()), SS_OK) << ssGetLastError();
+    EXPECT_EQ(changed(before, glState()), "") << "after the passes, method " << method;
+  }
+  ASSERT_EQ(ssRemoveMesh(context, 0), SS_OK);
+  ASSERT_EQ(ssReleaseContext(context), SS_OK);
+  EXPECT_EQ(changed(before, glState()), "") << "after the release";
+  glDeleteTextures(1, &texture);
+  glDeleteBuffers(1, &buffer);
+  glDeleteVertexArrays(1, &vertexArray);
+  glDeleteFramebuffers(1, &framebuffer);
+  glDeleteTextures(1, &colour);
 }
 
 TEST_F(Api, NaNPositionIsRejectedWithTheVertex) {

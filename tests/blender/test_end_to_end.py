@@ -50,6 +50,36 @@ class ExampleScenesRender(unittest.TestCase):
                 bpy.data.images.remove(image)
 
 
+class GlStateUnchanged(unittest.TestCase):
+    def test_every_method_leaves_blenders_gl_state(self):
+        """The GL state Blender relies on (bindings, blend, depth, cull, scissor, viewport, pixel
+        store: native.gl_state) is the same after a render as before, for every method."""
+        import bpy
+        subsplat = helpers.enable_addon()
+        scene = helpers.empty_scene(48, 36)
+        scene.render.engine = "SUBSPLAT"
+        scene.subsplat.irradiance_resolution = 64
+        scene.subsplat.reference_samples = 2000
+        material = bpy.data.materials.new("Skin")
+        material.subsplat.enabled = True
+        material.subsplat.preset = "SKIN1"
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4)
+        bpy.context.object.data.materials.append(material)
+        helpers.top_down_camera(scene, ortho_scale=1.2)
+        helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+        subsplat.viewport.check_gl_state = True
+        try:
+            for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"):
+                with self.subTest(method=method):
+                    scene.subsplat.method = method
+                    scene.subsplat.debug_passes = method != "REFERENCE"
+                    bpy.ops.render.render()
+                    self.assertIsNone(subsplat.last_render_error())
+                    self.assertEqual(subsplat.last_render_stats()["gl_state_changes"], [])
+        finally:
+            subsplat.viewport.check_gl_state = False
+
+
 class BrokenSceneFailsCleanly(unittest.TestCase):
     def test_nan_vertex_gives_message_and_nonzero_exit(self):
         import bpy

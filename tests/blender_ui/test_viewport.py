@@ -27,6 +27,7 @@ from ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, en
 
 def setup():
     subsplat = enable_addon()
+    subsplat.viewport.check_gl_state = True  # every draw compares Blender's GL state around our calls
     scene = bpy.context.scene
     for obj in list(scene.objects):
         bpy.data.objects.remove(obj)
@@ -132,6 +133,8 @@ def steps():
     moved = crop_region(screenshot("light_moved"), region(view_area, "WINDOW"))
     left_after = moved[:, : moved.shape[1] // 2].mean()
     check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
+    changes = subsplat.last_viewport()["gl_state_changes"]
+    check(changes == [], f"no draw left Blender's GL state changed ({changes})")
 
 
 run_steps(steps())

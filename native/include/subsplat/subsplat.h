@@ -206,6 +206,13 @@ typedef struct SsResourceCounts {
 } SsResourceCounts;
 SS_API SsStatus ssGetResourceCounts(SsResourceCounts* out);
 
+/* Test hook: the OpenGL state a host relies on (bindings, blend, depth, cull, scissor, viewport,
+ * pixel store, ...) as text, one "name=value" line each, queried from the current context apart
+ * from the library's own state saving. Compare it before and after other calls. Writes at most
+ * capacity bytes, NUL included; *length (optional) gets the text's length without the NUL;
+ * SS_LIMIT_EXCEEDED when capacity is too small. */
+SS_API SsStatus ssDescribeGlState(char* buffer, uint32_t capacity, uint32_t* length);
+
 /* Context: needs a current OpenGL 4.3+ core context; GL-issuing calls (materials, meshes,
  * render, passes, scene loading) must be made with that same context current, or fail with
  * SS_GL_ERROR. Release it with that context current, or see SsResourceCounts. */

@@ -240,6 +240,7 @@ StateGuard::StateGuard() {
   }
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pixelPackBuffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &pixelUnpackBuffer_);
+  glGetIntegerv(GL_TEXTURE_BUFFER_BINDING, &textureBufferBuffer_);
   glGetIntegerv(GL_ACTIVE_TEXTURE, &activeTexture_);
   for (int unit = 0; unit < kUnits; ++unit) {
     glActiveTexture(GL_TEXTURE0 + unit);
@@ -305,6 +306,7 @@ StateGuard::~StateGuard() {
   }
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pixelPackBuffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(pixelUnpackBuffer_));
+  glBindBuffer(GL_TEXTURE_BUFFER, GLuint(textureBufferBuffer_));
   for (int unit = 0; unit < kUnits; ++unit) {
     glActiveTexture(GL_TEXTURE0 + unit);
     glBindTexture(GL_TEXTURE_2D, GLuint(texture2D_[unit]));
