@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(blender cmake g++ pkg-config libglm-dev libepoxy-dev libegl-dev libgl-dev libopenimageio-dev
-          openimageio-tools libembree-dev googletest libgtest-dev python3-numpy python3-matplotlib xvfb zip)
+          openimageio-tools libembree-dev googletest libgtest-dev python3-numpy python3-matplotlib xvfb zip
+          clang libclang-rt-14-dev)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

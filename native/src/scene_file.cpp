@@ -212,8 +212,10 @@ void saveScene(const Renderer& renderer, const std::string& path) {
   for (char c : kMagic) w.put(c);
   w.put(kFormatVersion);
   w.put(uint32_t(SS_API_VERSION));
-  for (const auto& [id, material] : scene.materials())
-    w.record(kMaterial, [&] {
+  // (Named copies of the bindings: lambdas may not capture structured bindings before C++20.)
+  for (const auto& entry : scene.materials()) {
+    const auto& [id, material] = entry;
+    w.record(kMaterial, [&, id = id, &material = material] {
       w.put(id);
       const char* desc = reinterpret_cast<const char*>(&material.desc);
       for (size_t i = 0; i < kMaterialBytes; ++i) w.put(desc[i]);
@@ -227,8 +229,10 @@ void saveScene(const Renderer& renderer, const std::string& path) {
       w.putArray(set.palette());
       w.putArray(set.map());
     });
-  for (const auto& [id, mesh] : scene.meshes())
-    w.record(kMesh, [&] {
+  }
+  for (const auto& entry : scene.meshes()) {
+    const auto& [id, mesh] = entry;
+    w.record(kMesh, [&, id = id, &mesh = mesh] {
       w.put(id);
       w.put(uint32_t(mesh.cpuPositions.size()));
       w.put(mesh.triangleCount);
@@ -240,6 +244,7 @@ void saveScene(const Renderer& renderer, const std::string& path) {
       w.putArray(mesh.cpuIndices);
       w.putArray(mesh.materialIds);
     });
+  }
   w.record(kLights, [&] {
     w.put(uint32_t(scene.lights().size()));
     w.putArray(scene.lights());

@@ -1,0 +1,122 @@
+// libFuzzer target: the mesh, material, light, camera and settings input of the C API, then a
+// small render, on arbitrary values (NaN, infinities, out-of-range indices and ids, absurd
+// sizes). Arrays always hold as many values as their counts say: the API cannot check a
+// pointer's extent, so that part of the contract is the caller's. Nothing may crash or leak.
+//   fuzz_scene_input -max_total_time=60 WORK_CORPUS native/fuzz/corpus/scene
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+
+namespace {
+
+subsplat::testing::EglContext* gl = nullptr;
+SsProfileSet profiles = nullptr;
+
+void floats(FuzzedDataProvider& in, float* out, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    // Mostly ordinary values, sometimes anything (NaN, infinities, huge).
+    out[i] = in.ConsumeBool() ? in.ConsumeFloatingPointInRange<float>(-4.0f, 4.0f) : in.ConsumeFloatingPoint<float>();
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  gl = new subsplat::testing::EglContext();
+  const float sigmaA[3] = {0.03f, 0.17f, 0.48f}, sigmaS[3] = {0.74f, 0.88f, 1.01f};
+  if (ssNewProfileSetFromDipoles(1, 1, sigmaA, sigmaS, 1.3f, 0.0f, &profiles) != SS_OK) __builtin_trap();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  FuzzedDataProvider in(data, size);
+  SsContext context = nullptr;
+  if (ssNewContext(&context) != SS_OK) __builtin_trap();
+
+  for (int m = in.ConsumeIntegralInRange(0, 3); m > 0; --m) {
+    SsMaterialDesc material{};
+    material.kind = in.ConsumeIntegralInRange<int32_t>(-1, 3);
+    floats(in, material.base_color, 3);
+    floats(in, material.sigma_a, 3);
+    floats(in, material.sigma_s_prime, 3);
+    floats(in, &material.eta, 1);
+    material.mm_per_unit = in.ConsumeBool() ? in.ConsumeFloatingPointInRange<float>(1.0f, 1000.0f)
+                                            : in.ConsumeFloatingPoint<float>();
+    floats(in, &material.roughness, 1);
+    floats(in, &material.specular, 1);
+    material.profiles = in.ConsumeBool() ? profiles : nullptr;
+    ssSetMaterial(context, in.ConsumeIntegralInRange<uint32_t>(0, 4), &material);
+  }
+  for (int k = in.ConsumeIntegralInRange(0, 2); k > 0; --k) {
+    const uint32_t vertices = in.ConsumeIntegralInRange<uint32_t>(0, 48);
+    const uint32_t triangles = in.ConsumeIntegralInRange<uint32_t>(0, 48);
+    std::vector<float> positions(3 * vertices), normals(3 * vertices), uvs(2 * vertices);
+    std::vector<uint32_t> indices(3 * triangles), materials(triangles);
+    floats(in, positions.data(), positions.size());
+    floats(in, normals.data(), normals.size());
+    floats(in, uvs.data(), uvs.size());
+    for (uint32_t& i : indices) i = in.ConsumeIntegralInRange<uint32_t>(0, vertices + 1);
+    for (uint32_t& m : materials) m = in.ConsumeIntegralInRange<uint32_t>(0, 5);
+    SsMeshDesc mesh{};
+    mesh.positions = in.ConsumeBool() ? positions.data() : nullptr;
+    mesh.normals = in.ConsumeBool() ? normals.data() : nullptr;
+    mesh.uvs = in.ConsumeBool() ? uvs.data() : nullptr;
+    mesh.vertex_count = vertices;
+    mesh.indices = in.ConsumeBool() ? indices.data() : nullptr;
+    mesh.triangle_materials = in.ConsumeBool() ? materials.data() : nullptr;
+    mesh.triangle_count = triangles;
+    mesh.default_material = in.ConsumeIntegralInRange<uint32_t>(0, 5);
+    const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    for (int i = 0; i < 16; ++i) mesh.object_to_world[i] = identity[i];
+    if (in.ConsumeBool()) floats(in, mesh.object_to_world, 16);
+    ssSetMesh(context, in.ConsumeIntegralInRange<uint32_t>(0, 3), &mesh);
+  }
+  SsLightDesc lights[3] = {};
+  const uint32_t lightCount = in.ConsumeIntegralInRange<uint32_t>(0, 3);
+  for (uint32_t i = 0; i < lightCount; ++i) {
+    lights[i].type = in.ConsumeIntegralInRange<int32_t>(-1, 3);
+    floats(in, lights[i].color, 3);
+    floats(in, &lights[i].strength, 1);
+    floats(in, lights[i].position, 3);
+    floats(in, lights[i].direction, 3);
+    floats(in, &lights[i].spot_size, 1);
+    floats(in, &lights[i].spot_blend, 1);
+  }
+  ssSetLights(context, lightCount ? lights : nullptr, lightCount);
+  SsCameraDesc camera{};
+  const float view[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1};
+  const float ortho[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -0.2f, 0, 0, 0, -1, 1};
+  for (int i = 0; i < 16; ++i) camera.world_to_view[i] = view[i], camera.view_to_clip[i] = ortho[i];
+  if (in.ConsumeBool()) floats(in, camera.world_to_view, 16);
+  if (in.ConsumeBool()) floats(in, camera.view_to_clip, 16);
+  camera.orthographic = in.ConsumeIntegralInRange<int32_t>(0, 1);
+  ssSetCamera(context, &camera);
+  SsSettings settings{};
+  ssGetSettings(context, &settings);
+  // Expensive but valid settings only cost time: kept small so that an input runs in milliseconds.
+  settings.method = in.ConsumeIntegralInRange<int32_t>(-1, 4);
+  settings.irradiance_resolution = in.ConsumeIntegralInRange<int32_t>(-1, 64);
+  settings.reference_samples = in.ConsumeIntegralInRange<uint32_t>(1, 3000);  // not 0, the default 2e5
+  settings.levels = in.ConsumeIntegralInRange<int32_t>(-1, 9);
+  floats(in, &settings.z0_factor, 1);
+  floats(in, &settings.alpha, 1);
+  floats(in, &settings.epsilon, 1);
+  floats(in, &settings.lambda_z, 1);
+  floats(in, &settings.lambda_m, 1);
+  settings.debug_passes = in.ConsumeIntegralInRange<int32_t>(0, 1);
+  ssSetSettings(context, &settings);
+  const int32_t width = in.ConsumeIntegralInRange<int32_t>(-1, 12);
+  const int32_t height = in.ConsumeIntegralInRange<int32_t>(-1, 12);
+  std::vector<float> rgba(4 * size_t(width > 0 ? width : 0) * size_t(height > 0 ? height : 0) + 4);
+  if (ssRender(context, width, height, rgba.data()) == SS_OK) {
+    SsStats stats;
+    ssGetStats(context, &stats);
+    ssGetPass(context, in.ConsumeIntegralInRange<int32_t>(-1, 4), width, height, rgba.data());
+  }
+  if (ssReleaseContext(context) != SS_OK) __builtin_trap();
+  return 0;
+}
