@@ -1,0 +1,238 @@
+"""Bad and degenerate input, each case rendered as a farm would (`blender -b file -E SUBSPLAT -f 1`
+in a process of its own): a bad case exits with status 1 and a message naming what is wrong; a
+degenerate but legal one renders a finite image; no case crashes Blender (a crash is a signal:
+a negative status or 128 + signal). docs/RELIABILITY.md counts the cases."""
+import math
+import os
+import sys
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import helpers  # noqa: E402
+
+subsplat = helpers.enable_addon()
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def scene(camera=True, light=True):
+    s = helpers.empty_scene(48, 36)
+    s.render.engine = "SUBSPLAT"
+    s.subsplat.irradiance_resolution = 64
+    if camera:
+        cam = helpers.top_down_camera(s, ortho_scale=3.0)
+        cam.data.type = "PERSP"
+    if light:
+        helpers.add_light(s, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0)
+    return s
+
+
+def skin(name="Skin"):
+    material = bpy.data.materials.new(name)
+    material.subsplat.enabled = True
+    material.subsplat.preset = "SKIN1"
+    material.subsplat.mm_per_unit = 30.0
+    return material
+
+
+def sphere(material=None, radius=1.0, location=(0, 0, 0), name="Sphere"):
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=radius, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    obj.data.materials.append(material or skin())
+    return obj
+
+
+def mesh_object(name, vertices, faces, material=None):
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    mesh.materials.append(material or skin())
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+# -- bad input: (builder, texts the output must contain) ---------------------------------------
+
+def nan_vertex():
+    scene()
+    sphere(name="NanSphere").data.vertices[5].co = (math.nan, 0.0, 0.0)
+
+
+def infinite_vertex():
+    # Blender clamps the infinity to the largest float: the mesh's bounds overflow.
+    scene()
+    sphere(name="InfSphere").data.vertices[7].co = (0.0, math.inf, 0.0)
+
+
+def missing_subedit_file():
+    scene()
+    material = skin("Mapped")
+    material.subsplat.source = "SUBEDIT_FILE"
+    material.subsplat.subedit_path = "/nonexistent/marble.exr"
+    sphere(material)
+
+
+def garbage_subedit_file():
+    scene()
+    path = os.path.join(helpers.OUTPUT, "bad_input_garbage.exr")
+    with open(path, "wb") as f:
+        f.write(b"v/1\x01" + bytes(range(256)) * 4)
+    material = skin("Garbage")
+    material.subsplat.source = "SUBEDIT_FILE"
+    material.subsplat.subedit_path = path
+    sphere(material)
+
+
+def no_camera():
+    scene(camera=False)
+    sphere()
+
+
+BAD = {
+    "nan_vertex": (nan_vertex, ["object 'NanSphere'", "non-finite position"]),
+    "infinite_vertex": (infinite_vertex, ["object 'InfSphere'", "not finite"]),
+    "missing_subedit_file": (missing_subedit_file, ["material 'Mapped'", "does not exist"]),
+    "garbage_subedit_file": (garbage_subedit_file, ["material 'Garbage'", "bad_input_garbage.exr"]),
+    "no_camera": (no_camera, ["no camera"]),
+}
+
+
+# -- degenerate but legal input: builders --------------------------------------------------------
+
+def zero_area_triangles():
+    scene()
+    sphere()
+    mesh_object("Degenerate", [(0, 0, 1.2), (0, 0, 1.2), (0, 0, 1.2), (1, 0, 1.2), (2, 0, 1.2)],
+                [(0, 1, 2), (2, 3, 4)])
+
+
+def duplicate_vertices():
+    scene()
+    obj = sphere()
+    mesh = obj.data
+    # A second, coincident copy of every face, on vertices of its own.
+    count = len(mesh.vertices)
+    vertices = [tuple(v.co) for v in mesh.vertices] * 2
+    faces = [tuple(p.vertices) for p in mesh.polygons]
+    faces += [tuple(i + count for i in face) for face in faces]
+    mesh_object("Doubled", vertices, faces)
+    bpy.data.objects.remove(obj)
+
+
+def flipped_normals():
+    scene()
+    obj = sphere()
+    obj.data.flip_normals()
+
+
+def zero_custom_normals():
+    scene()
+    obj = sphere()
+    obj.data.use_auto_smooth = True
+    obj.data.normals_split_custom_set([(0.0, 0.0, 0.0)] * len(obj.data.loops))
+
+
+def non_manifold():
+    scene()
+    mesh_object("OpenSheet", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0), (0, 0, 1)],
+                [(0, 1, 4), (1, 2, 4), (0, 1, 2, 3)])
+
+
+def opaque_only():
+    scene()
+    material = bpy.data.materials.new("Grey")
+    sphere(material)
+
+
+def light_inside_object():
+    scene(light=False)
+    sphere()
+    helpers.add_light(bpy.context.scene, "POINT", location=(0, 0, 0), energy=100.0)
+
+
+def camera_inside_object():
+    s = scene(camera=False)
+    sphere(radius=2.0)
+    data = bpy.data.cameras.new("Inside")
+    camera = bpy.data.objects.new("Inside", data)
+    s.collection.objects.link(camera)
+    s.camera = camera
+
+
+def empty_scene():
+    scene()
+
+
+def tiny_object():
+    s = scene(camera=False)
+    sphere(radius=1e-4)
+    helpers.top_down_camera(s, ortho_scale=5e-4, height=1e-3).data.clip_start = 1e-5
+
+
+def huge_object():
+    s = scene(camera=False)
+    sphere(radius=1e4)
+    camera = helpers.top_down_camera(s, ortho_scale=4e4, height=5e4)
+    camera.data.clip_end = 1e6
+
+
+def extreme_coefficients():
+    scene()
+    dense = skin("Dense")
+    dense.subsplat.sigma_a = (1000.0, 1000.0, 1000.0)
+    dense.subsplat.sigma_s_prime = (0.001, 0.001, 0.001)
+    clear = skin("Clear")
+    clear.subsplat.sigma_a = (1e-6, 1e-6, 1e-6)
+    clear.subsplat.sigma_s_prime = (1e4, 1e4, 1e4)
+    sphere(dense, radius=0.6, location=(-0.7, 0, 0), name="Dense")
+    sphere(clear, radius=0.6, location=(0.7, 0, 0), name="Clear")
+
+
+DEGENERATE = {f.__name__: f for f in (zero_area_triangles, duplicate_vertices, flipped_normals, zero_custom_normals,
+                                      non_manifold, opaque_only, light_inside_object, camera_inside_object,
+                                      empty_scene, tiny_object, huge_object, extreme_coefficients)}
+
+
+def batch_render(name):
+    """(exit status, output, pixels or None) of `blender -b <name>.blend -E SUBSPLAT -f 1`."""
+    path = os.path.join(helpers.OUTPUT, f"bad_input_{name}.blend")
+    bpy.context.scene.render.image_settings.file_format = "OPEN_EXR"
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    out = os.path.join(helpers.OUTPUT, f"bad_input_{name}_")
+    if os.path.exists(out + "0001.exr"):
+        os.remove(out + "0001.exr")
+    result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", out, "-f", "1")
+    pixels = None
+    if os.path.exists(out + "0001.exr"):
+        image = bpy.data.images.load(out + "0001.exr", check_existing=False)
+        pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        bpy.data.images.remove(image)
+    return result.returncode, result.stdout + result.stderr, pixels
+
+
+class BadInputTable(unittest.TestCase):
+    def test_bad_cases_fail_with_a_message(self):
+        for name, (build, texts) in BAD.items():
+            with self.subTest(case=name):
+                build()
+                status, output, _ = batch_render(name)
+                self.assertNotIn(status, (-11, -6, 139, 134), f"{name}: Blender crashed\n{output[-3000:]}")
+                self.assertEqual(status, 1, f"{name}: exit status {status}\n{output[-3000:]}")
+                for text in texts:
+                    self.assertIn(text, output, f"{name}: the message does not say {text!r}")
+
+    def test_degenerate_cases_render_finite_images(self):
+        for name, build in DEGENERATE.items():
+            with self.subTest(case=name):
+                build()
+                status, output, pixels = batch_render(name)
+                self.assertNotIn(status, (-11, -6, 139, 134), f"{name}: Blender crashed\n{output[-3000:]}")
+                self.assertEqual(status, 0, f"{name}: exit status {status}\n{output[-3000:]}")
+                self.assertIsNotNone(pixels, f"{name}: no image written")
+                self.assertTrue(np.all(np.isfinite(pixels)), f"{name}: non-finite pixels")
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
