@@ -21,7 +21,8 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ui_helpers import areas, check, crop_region, drawn, enable_addon, region, run_steps, screenshot  # noqa: E402
+from ui_helpers import (areas, check, crop_region, drawn, enable_addon, redraw, region, run_steps,  # noqa: E402
+                        screenshot)
 
 SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
 EXAMPLE = os.path.join(SOURCE, "example_blends", "finger_pose.blend")
@@ -65,6 +66,16 @@ def released(subsplat, what):
     gl_objects = sum(counts[k] for k in ("textures", "buffers", "framebuffers", "vertex_arrays", "programs",
                                          "queries"))
     check(gl_objects == 0, f"{what}: no GL object of the library is left ({counts})")
+
+
+def new_viewport(subsplat, timeout=120.0):
+    """Yields until a new viewport engine has drawn: it makes its native context in its first draw."""
+    waited = 0.0
+    while subsplat.native.resource_counts()["contexts"] == 0 and waited < timeout:
+        redraw()
+        yield 0.2
+        waited += 0.2
+    yield 0.5
 
 
 def orphans_deleted(what):
@@ -114,7 +125,9 @@ def steps():
     counts, memory = [], []
     for i in range(REDRAWS):
         draws = subsplat.last_viewport()["draws"]
-        scene.frame_set(1 + i % 24)
+        # Always another frame than the current one (2, 3, ..., 24, 1, 2, ...): a frame_set to
+        # the frame shown changes nothing, and Blender then need not call view_draw at all.
+        scene.frame_set(1 + (i + 1) % 24)
         yield from drawn(subsplat, draws, settle=0.0)
         counts.append(subsplat.native.resource_counts())
         memory.append(resident_bytes())
@@ -136,25 +149,20 @@ def steps():
     yield from released(subsplat, "switching the viewport to Solid")
 
     view.shading.type = "RENDERED"
-    draws = subsplat.last_viewport()["draws"]
-    yield from drawn(subsplat, draws)
+    yield from new_viewport(subsplat)
     check(subsplat.native.resource_counts()["contexts"] == 1, "Rendered shading again makes one native context")
     orphans_deleted("drawing in Rendered shading again")
     scene.render.engine = "BLENDER_WORKBENCH"
     yield from released(subsplat, "switching the engine to Workbench")
 
     scene.render.engine = "SUBSPLAT"
-    draws = subsplat.last_viewport()["draws"]
-    yield from drawn(subsplat, draws)
+    yield from new_viewport(subsplat)
     check(subsplat.native.resource_counts()["contexts"] == 1, "SubSplat again makes one native context")
     orphans_deleted("drawing with SubSplat again")
     bpy.ops.wm.open_mainfile(filepath=EXAMPLE)
     yield from released(subsplat, "reloading the file")
     rendered_view(bpy.context.scene)
-    for _ in range(100):  # until the new viewport engine has drawn (made its context)
-        yield 0.2
-        if subsplat.native.resource_counts()["contexts"] == 1:
-            break
+    yield from new_viewport(subsplat)
     check(subsplat.native.resource_counts()["contexts"] == 1, "the reloaded file's viewport makes one native context")
     orphans_deleted("drawing the reloaded file")
 

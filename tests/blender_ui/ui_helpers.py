@@ -5,6 +5,7 @@ so a step can change the scene, wait for the viewport to draw, and take a screen
 """
 import os
 import sys
+import time
 import traceback
 
 import bpy
@@ -13,10 +14,11 @@ import numpy as np
 OUTPUT = os.environ.get("SUBSPLAT_TEST_OUTPUT", os.path.join(os.getcwd(), "test_output"))
 os.makedirs(OUTPUT, exist_ok=True)
 failures = []
+STARTED = time.monotonic()
 
 
 def check(condition, message):
-    print(("ok: " if condition else "FAILED: ") + message, flush=True)
+    print(f"[{time.monotonic() - STARTED:6.1f} s] " + ("ok: " if condition else "FAILED: ") + message, flush=True)
     if not condition:
         failures.append(message)
 
