@@ -73,8 +73,8 @@ def deform(scene):
 
 
 def measure(subsplat, change, repeats):
-    """Yields while `change()` is made `repeats` times, each followed by a redraw; the medians go
-    to the list `into` (update ms, draw ms, frame ms of ssRender, width, height)."""
+    """Yields while `change()` is made `repeats` times, each followed by a redraw; appends the
+    medians (update ms, draw ms, ssRender ms, frame size) to the module's `results`."""
     rows = []
     for _ in range(repeats):
         draws = subsplat.last_viewport()["draws"]

@@ -38,7 +38,7 @@ class Counters:
         self.light_exports = 0     # times the lights were sent
         self.full_syncs = 0
         self.draws = 0
-        self.gl_state_changes = []  # with engine.check_gl_state: GL state the library left changed
+        self.gl_state_changes = []  # with viewport.check_gl_state: GL state the library left changed
         self.update_ms = 0.0       # the last view_update: depsgraph to library (exports included)
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
 
