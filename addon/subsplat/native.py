@@ -5,6 +5,7 @@ message, so the engine can show it to the user.
 """
 import ctypes
 import os
+import threading
 
 import numpy as np
 
@@ -111,60 +112,74 @@ class ProfileInfo(ctypes.Structure):
     _fields_ = [("total_reflectance", Float3), ("effective_range", Float3), ("support_radius", ctypes.c_float)]
 
 
-_lib = None
+_libs = None
 
 
 def library():
-    """The loaded library, loaded on first use."""
-    global _lib
-    if _lib is None:
+    """The loaded library (loaded on first use), as seen from the calling thread.
+
+    On Blender's main thread the library's functions keep the GIL while they run (ctypes.PyDLL); in
+    other threads (final and preview renders) they release it (ctypes.CDLL). Blender keeps one global
+    "Python may not write to ID data" flag, which each read-only callback (panel draw, view_draw)
+    saves, sets and restores. If a render thread's Python callback starts while the main thread is
+    inside one of those with the GIL released, the two save/restore pairs interleave and the flag
+    stays set for the rest of the session: every timer and handler of every add-on then fails to
+    write ("Writing to ID classes in this context is not allowed"). Keeping the GIL through native
+    calls made from the main thread closes that window (docs/DECISIONS.md, "The GIL")."""
+    global _libs
+    if _libs is None:
         path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libsubsplat.so")
         if not os.path.exists(path):
             raise SubsplatError(f"native library missing: {path} (build with cmake, or reinstall the add-on)")
         try:
-            lib = ctypes.CDLL(path)
+            libs = (_declare(ctypes.PyDLL(path)), _declare(ctypes.CDLL(path)))
         except OSError as error:  # typically a missing system library
             raise SubsplatError(f"cannot load {path}: {error} (on Debian: apt install libepoxy0 libembree3-3 libopenimageio2.4)")
-        lib.ssGetApiVersion.restype = ctypes.c_int32
-        lib.ssGetLastError.restype = ctypes.c_char_p
-        handle = ctypes.c_void_p
-        signatures = {
-            "ssNewContext": [ctypes.POINTER(handle)],
-            "ssReleaseContext": [handle],
-            "ssSetMaterial": [handle, ctypes.c_uint32, ctypes.POINTER(MaterialDesc)],
-            "ssSetMesh": [handle, ctypes.c_uint32, ctypes.POINTER(MeshDesc)],
-            "ssRemoveMesh": [handle, ctypes.c_uint32],
-            "ssClearScene": [handle],
-            "ssSetLights": [handle, ctypes.POINTER(LightDesc), ctypes.c_uint32],
-            "ssSetCamera": [handle, ctypes.POINTER(CameraDesc)],
-            "ssSetSettings": [handle, ctypes.POINTER(Settings)],
-            "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
-            "ssGetStats": [handle, ctypes.POINTER(Stats)],
-            "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
-            "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
-            "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
-            "ssGetSettings": [handle, ctypes.POINTER(Settings)],
-            "ssSaveScene": [handle, ctypes.c_char_p],
-            "ssLoadScene": [handle, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_int32)],
-            "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
-            "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
-                                           ctypes.POINTER(ctypes.c_float), ctypes.c_float, ctypes.c_float,
-                                           ctypes.POINTER(handle)],
-            "ssLoadProfileSet": [ctypes.c_char_p, ctypes.c_float, ctypes.POINTER(handle)],
-            "ssSaveProfileSet": [handle, ctypes.c_char_p],
-            "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
-            "ssReleaseProfileSet": [handle],
-            "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
-            "ssDescribeGlState": [ctypes.c_char_p, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)],
-        }
-        for name, args in signatures.items():
-            function = getattr(lib, name)
-            function.argtypes = args
-            function.restype = ctypes.c_int
-        if lib.ssGetApiVersion() != API_VERSION:
-            raise SubsplatError(f"native library API {lib.ssGetApiVersion()} does not match the add-on's {API_VERSION}")
-        _lib = lib
-    return _lib
+        if libs[0].ssGetApiVersion() != API_VERSION:
+            raise SubsplatError(f"native library API {libs[0].ssGetApiVersion()} does not match the add-on's {API_VERSION}")
+        _libs = libs
+    return _libs[0] if threading.current_thread() is threading.main_thread() else _libs[1]
+
+
+def _declare(lib):
+    """Sets the argument and result types of the C API's functions on a loaded library."""
+    lib.ssGetApiVersion.restype = ctypes.c_int32
+    lib.ssGetLastError.restype = ctypes.c_char_p
+    handle = ctypes.c_void_p
+    signatures = {
+        "ssNewContext": [ctypes.POINTER(handle)],
+        "ssReleaseContext": [handle],
+        "ssSetMaterial": [handle, ctypes.c_uint32, ctypes.POINTER(MaterialDesc)],
+        "ssSetMesh": [handle, ctypes.c_uint32, ctypes.POINTER(MeshDesc)],
+        "ssRemoveMesh": [handle, ctypes.c_uint32],
+        "ssClearScene": [handle],
+        "ssSetLights": [handle, ctypes.POINTER(LightDesc), ctypes.c_uint32],
+        "ssSetCamera": [handle, ctypes.POINTER(CameraDesc)],
+        "ssSetSettings": [handle, ctypes.POINTER(Settings)],
+        "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
+        "ssGetStats": [handle, ctypes.POINTER(Stats)],
+        "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
+        "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
+        "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
+        "ssGetSettings": [handle, ctypes.POINTER(Settings)],
+        "ssSaveScene": [handle, ctypes.c_char_p],
+        "ssLoadScene": [handle, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_int32)],
+        "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
+        "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
+                                       ctypes.POINTER(ctypes.c_float), ctypes.c_float, ctypes.c_float,
+                                       ctypes.POINTER(handle)],
+        "ssLoadProfileSet": [ctypes.c_char_p, ctypes.c_float, ctypes.POINTER(handle)],
+        "ssSaveProfileSet": [handle, ctypes.c_char_p],
+        "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
+        "ssReleaseProfileSet": [handle],
+        "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
+        "ssDescribeGlState": [ctypes.c_char_p, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)],
+    }
+    for name, args in signatures.items():
+        function = getattr(lib, name)
+        function.argtypes = args
+        function.restype = ctypes.c_int
+    return lib
 
 
 def _check(status):
