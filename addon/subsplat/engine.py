@@ -6,7 +6,7 @@ import time
 
 import bpy
 
-from . import export, native, viewport
+from . import export, native, properties, viewport
 from .properties import METHOD_ITEMS
 
 _last_stats = {}
@@ -134,6 +134,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             for warning in frame.warnings:
                 self.report({"WARNING"}, f"SubSplat: {warning}")
 
+        native.set_memory_budget(properties.memory_budget_bytes())
         self._context = native.Context()
         context = self._context
         for material_id, desc in frame.materials.values():

@@ -9,7 +9,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 7
+API_VERSION = 8
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
@@ -173,6 +173,8 @@ def _declare(lib):
         "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
         "ssReleaseProfileSet": [handle],
         "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
+        "ssSetMemoryBudget": [ctypes.c_uint64],
+        "ssGetMemoryUsage": [ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_uint64)],
         "ssDescribeGlState": [ctypes.c_char_p, ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint32)],
     }
     for name, args in signatures.items():
@@ -195,6 +197,18 @@ def _floats(array):
 
 def _uints(array):
     return array.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32))
+
+
+def set_memory_budget(bytes_):
+    """The GPU memory budget of the whole process, in bytes; 0: automatic (ssSetMemoryBudget)."""
+    _check(library().ssSetMemoryBudget(int(bytes_)))
+
+
+def memory_usage():
+    """(bytes held by the library's textures and buffers, the budget: 0 until measured with a GL context)."""
+    used, budget = ctypes.c_uint64(), ctypes.c_uint64()
+    _check(library().ssGetMemoryUsage(ctypes.byref(used), ctypes.byref(budget)))
+    return used.value, budget.value
 
 
 def resource_counts():

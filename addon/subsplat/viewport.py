@@ -17,7 +17,7 @@ import gpu
 from gpu_extras.presets import draw_texture_2d
 import numpy as np
 
-from . import export, native
+from . import export, native, properties
 
 # Tests set check_gl_state = True: each viewport draw and render compares the GL state before and
 # after the library's calls (native.gl_state) and reports what changed, in last_viewport()
@@ -175,6 +175,7 @@ class ViewportSession:
     def _send_pending(self):
         """Sends what view_update() found changed; the viewport's GL context is current."""
         if self.context is None:
+            native.set_memory_budget(properties.memory_budget_bytes())
             self.context = native.Context()
         for material_id, desc in self.pending_materials.items():
             self.context.set_material(material_id, desc)

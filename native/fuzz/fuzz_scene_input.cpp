@@ -36,6 +36,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FuzzedDataProvider in(data, size);
   SsContext context = nullptr;
   if (ssNewContext(&context) != SS_OK) __builtin_trap();
+  uint64_t heldBefore = 0, budget = 0;
+  if (ssGetMemoryUsage(&heldBefore, &budget) != SS_OK) __builtin_trap();
+  // A memory budget of 1 to 4 MiB makes some uploads and renders fail part way (SS_LIMIT_EXCEEDED).
+  const bool tight = in.ConsumeBool();
+  if (tight && ssSetMemoryBudget(in.ConsumeIntegralInRange<uint64_t>(1 << 20, 4 << 20)) != SS_OK) __builtin_trap();
 
   for (int m = in.ConsumeIntegralInRange(0, 3); m > 0; --m) {
     SsMaterialDesc material{};
@@ -112,11 +117,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const int32_t width = in.ConsumeIntegralInRange<int32_t>(-1, 12);
   const int32_t height = in.ConsumeIntegralInRange<int32_t>(-1, 12);
   std::vector<float> rgba(4 * size_t(width > 0 ? width : 0) * size_t(height > 0 ? height : 0) + 4);
-  if (ssRender(context, width, height, rgba.data()) == SS_OK) {
+  SsStatus rendered = ssRender(context, width, height, rgba.data());
+  if (rendered == SS_LIMIT_EXCEEDED && tight) {  // the same context, after a failure part way
+    if (ssSetMemoryBudget(0) != SS_OK) __builtin_trap();
+    rendered = ssRender(context, width, height, rgba.data());
+  }
+  if (rendered == SS_OK) {
     SsStats stats;
     ssGetStats(context, &stats);
     ssGetPass(context, in.ConsumeIntegralInRange<int32_t>(-1, 4), width, height, rgba.data());
   }
   if (ssReleaseContext(context) != SS_OK) __builtin_trap();
+  if (ssSetMemoryBudget(0) != SS_OK) __builtin_trap();
+  uint64_t heldAfter = 0;
+  if (ssGetMemoryUsage(&heldAfter, &budget) != SS_OK || heldAfter != heldBefore) __builtin_trap();
   return 0;
 }

@@ -170,6 +170,24 @@ SsStatus ssGetResourceCounts(SsResourceCounts* out) {
   });
 }
 
+SsStatus ssSetMemoryBudget(uint64_t bytes) {
+  return guarded("ssSetMemoryBudget", [&] {
+    if (bytes != 0 && bytes < (uint64_t(1) << 20))
+      subsplat::fail(SS_INVALID_ARGUMENT, "memory budget must be 0 (automatic) or at least 1 MiB, got " +
+                                              std::to_string(bytes) + " bytes");
+    subsplat::gl::setMemoryBudget(bytes);
+  });
+}
+
+SsStatus ssGetMemoryUsage(uint64_t* used, uint64_t* budget) {
+  return guarded("ssGetMemoryUsage", [&] {
+    if (used == nullptr || budget == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "used or budget is NULL");
+    *used = subsplat::gl::gpuBytes();
+    // The automatic budget asks the driver once, with a context current.
+    *budget = subsplat::gl::memoryBudgetKnown() || currentGlContext() != nullptr ? subsplat::gl::memoryBudget() : 0;
+  });
+}
+
 SsStatus ssDescribeGlState(char* buffer, uint32_t capacity, uint32_t* length) {
   return guarded("ssDescribeGlState", [&] {
     if (length) *length = 0;

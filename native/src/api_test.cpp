@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -83,6 +84,58 @@ TEST(ApiResources, RenderingAndReleasingLeavesNoHandleOrGlObjectBehind) {
     EXPECT_EQ(after.queries, before.queries);
     EXPECT_EQ(after.orphaned_gl_objects, before.orphaned_gl_objects);
   }
+}
+
+// The memory budget: a mesh or a frame's buffers beyond it fail with SS_LIMIT_EXCEEDED naming
+// what needed the memory, before the GL allocates; within it again, the same context renders.
+TEST(ApiMemory, MeshesAndBuffersBeyondTheBudgetFailCleanlyAndTheContextRecovers) {
+  uint64_t used = 0, budget = 0;
+  EXPECT_EQ(ssGetMemoryUsage(&used, nullptr), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK);  // without a context, 0 until measured
+  EXPECT_EQ(ssSetMemoryBudget(1000), SS_INVALID_ARGUMENT);
+  testing::EglContext gl;
+  ASSERT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK) << ssGetLastError();
+  EXPECT_GT(budget, uint64_t(256) << 20) << "the automatic budget of this machine";
+  const uint64_t before = used;
+
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  testing::Sphere sphere(256, 128);  // 33 k vertices: about 1.8 MiB of GPU buffers
+  ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK);
+  const uint64_t withScene = used;
+  EXPECT_GT(withScene, before + (uint64_t(1) << 20));
+
+  ASSERT_EQ(ssSetMemoryBudget(withScene + (uint64_t(1) << 20)), SS_OK);
+  SsMeshDesc big = sphere.desc({0, 0, 0}, 0.3f, 0);
+  EXPECT_EQ(ssSetMesh(context, 7, &big), SS_LIMIT_EXCEEDED);
+  std::string message = ssGetLastError();
+  EXPECT_NE(message.find("mesh 7 ("), std::string::npos) << message;
+  EXPECT_NE(message.find("memory budget"), std::string::npos) << message;
+  ASSERT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK);
+  EXPECT_EQ(used, withScene) << "nothing of the refused mesh stays allocated";
+
+  std::vector<float> rgba(size_t(256) * 256 * 4);
+  SsSettings settings{};
+  ASSERT_EQ(ssGetSettings(context, &settings), SS_OK);
+  settings.method = SS_METHOD_FULL;
+  settings.irradiance_resolution = 256;
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+  EXPECT_EQ(ssRender(context, 256, 256, rgba.data()), SS_LIMIT_EXCEEDED);
+  message = ssGetLastError();
+  EXPECT_NE(message.find("buffers"), std::string::npos) << message;
+  std::printf("the budget's message: %s\n", message.c_str());
+  EXPECT_NE(message.find("memory budget"), std::string::npos) << message;
+
+  ASSERT_EQ(ssSetMemoryBudget(0), SS_OK);
+  ASSERT_EQ(ssRender(context, 256, 256, rgba.data()), SS_OK) << ssGetLastError();
+  double sum = 0.0;
+  for (size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i];
+  EXPECT_TRUE(std::isfinite(sum));
+  EXPECT_GT(sum, 0.0) << "the sphere renders once the budget allows it";
+  ASSERT_EQ(ssReleaseContext(context), SS_OK);
+  ASSERT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK);
+  EXPECT_EQ(used, before) << "releasing the context frees every byte it held";
 }
 
 // With another OpenGL context current, a context refuses GL work; released there, its GL

@@ -184,11 +184,20 @@ void Renderer::render(int width, int height, float* rgba) {
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
   Levels chosen = chooseLevels(width, height, translucent, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
-  irradiance_.resize(settings_.irradiance_resolution, levels, scene_.heterogeneous());
-  splatting_.resize(width, height, splatLevels);
-  splats_.setDebug(settings_.debug_passes != 0);
-  splats_.resize(width, height, splatLevels);
-  shading_.resize(width, height);
+  {
+    std::string size = std::to_string(settings_.irradiance_resolution);
+    gl::Purpose purpose("the irradiance buffers (" + size + " x " + size + " texels, " + std::to_string(levels) +
+                        " levels; lower the irradiance resolution)");
+    irradiance_.resize(settings_.irradiance_resolution, levels, scene_.heterogeneous());
+  }
+  {
+    gl::Purpose purpose("the splatting buffers (" + std::to_string(width) + " x " + std::to_string(height) +
+                        " pixels, " + std::to_string(splatLevels) + " levels; lower the render resolution)");
+    splatting_.resize(width, height, splatLevels);
+    splats_.setDebug(settings_.debug_passes != 0);
+    splats_.resize(width, height, splatLevels);
+    shading_.resize(width, height);
+  }
   gl::checkErrors("buffer allocation");
 
   stats_ = SsStats{};

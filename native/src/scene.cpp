@@ -131,6 +131,14 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
   Mesh mesh;
   auto existing = meshes_.find(objectId);
   mesh.index = existing != meshes_.end() ? existing->second.index : nextMeshIndex_++;
+  // The object's old mesh goes before the new one is allocated: less memory at the peak, and a
+  // mesh beyond the memory budget leaves the object without one (the call failed).
+  if (existing != meshes_.end()) {
+    meshes_.erase(existing);
+    resolvedVersion_ = ~0ull;
+  }
+  gl::Purpose purpose(name + " (" + std::to_string(d.vertex_count) + " vertices, " +
+                      std::to_string(d.triangle_count) + " triangles)");
   mesh.objectToWorld = glm::make_mat4(d.object_to_world);
   mesh.triangleCount = d.triangle_count;
   mesh.materialIds.assign(d.triangle_count, d.default_material);

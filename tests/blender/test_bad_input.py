@@ -89,13 +89,23 @@ def no_camera():
     sphere()
 
 
+def mesh_beyond_memory_budget():
+    # 32 k vertices and 65 k triangles (1.8 MiB of GPU buffers) against a 1 MiB budget.
+    scene()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=256, ring_count=128)
+    bpy.context.object.name = "BigSphere"
+    bpy.context.object.data.materials.append(skin())
+
+
 BAD = {
     "nan_vertex": (nan_vertex, ["object 'NanSphere'", "non-finite position"]),
     "infinite_vertex": (infinite_vertex, ["object 'InfSphere'", "not finite"]),
     "missing_subedit_file": (missing_subedit_file, ["material 'Mapped'", "does not exist"]),
     "garbage_subedit_file": (garbage_subedit_file, ["material 'Garbage'", "bad_input_garbage.exr"]),
     "no_camera": (no_camera, ["no camera"]),
+    "mesh_beyond_memory_budget": (mesh_beyond_memory_budget, ["object 'BigSphere'", "memory budget"]),
 }
+ENVIRONMENT = {"mesh_beyond_memory_budget": {"SUBSPLAT_GPU_MEMORY_MB": "1"}}
 
 
 # -- degenerate but legal input: builders --------------------------------------------------------
@@ -194,7 +204,7 @@ DEGENERATE = {f.__name__: f for f in (zero_area_triangles, duplicate_vertices, f
                                       empty_scene, tiny_object, huge_object, extreme_coefficients)}
 
 
-def batch_render(name):
+def batch_render(name, env=None):
     """(exit status, output, pixels or None) of `blender -b <name>.blend -E SUBSPLAT -f 1`."""
     path = os.path.join(helpers.OUTPUT, f"bad_input_{name}.blend")
     bpy.context.scene.render.image_settings.file_format = "OPEN_EXR"
@@ -202,7 +212,8 @@ def batch_render(name):
     out = os.path.join(helpers.OUTPUT, f"bad_input_{name}_")
     if os.path.exists(out + "0001.exr"):
         os.remove(out + "0001.exr")
-    result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", out, "-f", "1")
+    result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", out, "-f", "1",
+                                 env=dict(os.environ, **env) if env else None)
     pixels = None
     if os.path.exists(out + "0001.exr"):
         image = bpy.data.images.load(out + "0001.exr", check_existing=False)
@@ -217,7 +228,7 @@ class BadInputTable(unittest.TestCase):
         for name, (build, texts) in BAD.items():
             with self.subTest(case=name):
                 build()
-                status, output, _ = batch_render(name)
+                status, output, _ = batch_render(name, ENVIRONMENT.get(name))
                 self.assertNotIn(status, (-11, -6, 139, 134), f"{name}: Blender crashed\n{output[-3000:]}")
                 self.assertEqual(status, 1, f"{name}: exit status {status}\n{output[-3000:]}")
                 for text in texts:

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 7
+#define SS_API_VERSION 8
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -205,6 +205,16 @@ typedef struct SsResourceCounts {
   int64_t orphaned_gl_objects;
 } SsResourceCounts;
 SS_API SsStatus ssGetResourceCounts(SsResourceCounts* out);
+
+/* The GPU memory budget, for all contexts of the process: every texture and buffer the library
+ * makes is checked against it first, and a mesh or buffer beyond it fails with SS_LIMIT_EXCEEDED
+ * naming what needed the memory (never a GL out-of-memory error). 0 (the default) is automatic:
+ * 90 % of the memory the driver reports (GL_NVX_gpu_memory_info, GL_ATI_meminfo), else half of
+ * the machine's RAM. Otherwise at least 1 MiB. */
+SS_API SsStatus ssSetMemoryBudget(uint64_t bytes);
+/* *used: bytes the library's textures and buffers hold now; *budget: the budget in force, or 0
+ * while the automatic budget has not been measured (that needs a current OpenGL context). */
+SS_API SsStatus ssGetMemoryUsage(uint64_t* used, uint64_t* budget);
 
 /* Test hook: the OpenGL state a host relies on (bindings, blend, depth, cull, scissor, viewport,
  * pixel store, ...) as text, one "name=value" line each, queried from the current context apart

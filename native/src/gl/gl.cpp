@@ -1,5 +1,9 @@
 #include "gl/gl.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <mutex>
 #include <unordered_map>
 #include <utility>
@@ -65,6 +69,74 @@ int64_t orphanedObjects() {
   return orphanTotal;
 }
 
+namespace {
+std::atomic<uint64_t> budgetSetting{0};    // ssSetMemoryBudget; 0 = automatic
+std::atomic<uint64_t> automaticBudget{0};  // measured once, with a context current
+thread_local const Purpose* purpose = nullptr;
+
+uint64_t measureBudget() {
+  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+    GLint kib = 0;
+    glGetIntegerv(0x9048, &kib);  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+    if (glGetError() == GL_NO_ERROR && kib > 0) return uint64_t(kib) * 1024 / 10 * 9;
+  }
+  if (epoxy_has_gl_extension("GL_ATI_meminfo")) {
+    GLint kib[4] = {};
+    glGetIntegerv(0x87FC, kib);  // TEXTURE_FREE_MEMORY_ATI: free now, in KiB
+    if (glGetError() == GL_NO_ERROR && kib[0] > 0) return (uint64_t(kib[0]) * 1024 + gpuBytes()) / 10 * 9;
+  }
+  long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && pageSize > 0) return uint64_t(pages) * uint64_t(pageSize) / 2;
+  return uint64_t(4) << 30;
+}
+
+std::string mib(uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
+  return text;
+}
+
+uint64_t texelBytes(GLenum format) {
+  switch (format) {
+    case GL_RGBA32F: case GL_RGBA32UI: return 16;
+    case GL_RGBA16F: case GL_RG32F: return 8;
+    case GL_R32F: case GL_R32UI: case GL_DEPTH_COMPONENT32F: case GL_RGBA8: case GL_RG16F: return 4;
+    case GL_R16F: return 2;
+    default: return 16;  // unknown formats count as the widest we use
+  }
+}
+}  // namespace
+
+uint64_t gpuBytes() { return heldBytes.load(std::memory_order_relaxed); }
+
+uint64_t memoryBudget() {
+  uint64_t set = budgetSetting.load(std::memory_order_relaxed);
+  if (set != 0) return set;
+  uint64_t automatic = automaticBudget.load(std::memory_order_relaxed);
+  if (automatic == 0) {
+    automatic = measureBudget();
+    automaticBudget.store(automatic, std::memory_order_relaxed);
+  }
+  return automatic;
+}
+
+bool memoryBudgetKnown() {
+  return budgetSetting.load(std::memory_order_relaxed) != 0 || automaticBudget.load(std::memory_order_relaxed) != 0;
+}
+
+void setMemoryBudget(uint64_t bytes) { budgetSetting.store(bytes, std::memory_order_relaxed); }
+
+Purpose::Purpose(std::string what) : what_(std::move(what)), previous_(purpose) { purpose = this; }
+Purpose::~Purpose() { purpose = previous_; }
+
+void reserve(uint64_t bytes) {
+  uint64_t budget = memoryBudget(), held = gpuBytes();
+  if (held <= budget && bytes <= budget - held) return;
+  std::string what = purpose != nullptr ? purpose->what_ : "GPU data";
+  fail(SS_LIMIT_EXCEEDED, what + ": " + mib(bytes) + " more GPU memory would exceed the memory budget (" +
+                              mib(held) + " of " + mib(budget) + " in use)");
+}
+
 void deleteTexture(GLuint id) { if (!orphaned(rawDeleteTexture, id)) rawDeleteTexture(id); }
 void deleteBuffer(GLuint id) { if (!orphaned(rawDeleteBuffer, id)) rawDeleteBuffer(id); }
 void deleteFramebuffer(GLuint id) { if (!orphaned(rawDeleteFramebuffer, id)) rawDeleteFramebuffer(id); }
@@ -81,9 +153,13 @@ static void setFilter(GLenum target, GLenum filter) {
 }
 
 Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filter, int levels) {
+  uint64_t bytes = 0;
+  for (int k = 0; k < levels; ++k)
+    bytes += uint64_t(std::max(width >> k, 1)) * uint64_t(std::max(height >> k, 1)) * texelBytes(internalFormat);
+  reserve(bytes);
   GLuint id = 0;
   glGenTextures(1, &id);
-  Texture texture(id);
+  Texture texture(id, bytes);
   glBindTexture(GL_TEXTURE_2D, id);
   glTexStorage2D(GL_TEXTURE_2D, levels, internalFormat, width, height);
   setFilter(GL_TEXTURE_2D, filter);
@@ -93,9 +169,11 @@ Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filte
 
 Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int layers,
                            GLenum filter) {
+  uint64_t bytes = uint64_t(width) * uint64_t(height) * uint64_t(layers) * texelBytes(internalFormat);
+  reserve(bytes);
   GLuint id = 0;
   glGenTextures(1, &id);
-  Texture texture(id);
+  Texture texture(id, bytes);
   glBindTexture(GL_TEXTURE_2D_ARRAY, id);
   glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internalFormat, width, height, layers);
   setFilter(GL_TEXTURE_2D_ARRAY, filter);
@@ -104,9 +182,10 @@ Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int lay
 }
 
 Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage) {
+  reserve(bytes);
   GLuint id = 0;
   glGenBuffers(1, &id);
-  Buffer buffer(id);
+  Buffer buffer(id, bytes);
   glBindBuffer(target, id);
   glBufferData(target, GLsizeiptr(bytes), data, usage);
   checkErrors("buffer allocation");

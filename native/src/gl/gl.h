@@ -10,16 +10,27 @@
 
 namespace subsplat::gl {
 
-// Each kind counts its live objects over all contexts (ssGetResourceCounts: the leak tests).
+// GPU memory held by the library's textures and buffers, over all contexts.
+inline std::atomic<uint64_t> heldBytes{0};
+
+// Each kind counts its live objects over all contexts (ssGetResourceCounts: the leak tests), and
+// each object the GPU memory it holds (gpuBytes, the memory budget).
 template <void (*Delete)(GLuint)>
 class Object {
  public:
   Object() = default;
-  explicit Object(GLuint id) : id_(id) { if (id_) live_.fetch_add(1, std::memory_order_relaxed); }
+  explicit Object(GLuint id, uint64_t bytes = 0) : id_(id), bytes_(id ? bytes : 0) {
+    if (id_) live_.fetch_add(1, std::memory_order_relaxed);
+    heldBytes.fetch_add(bytes_, std::memory_order_relaxed);
+  }
   ~Object() { reset(); }
-  Object(Object&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  Object(Object&& o) noexcept : id_(std::exchange(o.id_, 0)), bytes_(std::exchange(o.bytes_, 0)) {}
   Object& operator=(Object&& o) noexcept {
-    if (this != &o) { reset(); id_ = std::exchange(o.id_, 0); }
+    if (this != &o) {
+      reset();
+      id_ = std::exchange(o.id_, 0);
+      bytes_ = std::exchange(o.bytes_, 0);
+    }
     return *this;
   }
   Object(const Object&) = delete;
@@ -28,16 +39,48 @@ class Object {
     if (id_) {
       Delete(id_);
       live_.fetch_sub(1, std::memory_order_relaxed);
+      heldBytes.fetch_sub(bytes_, std::memory_order_relaxed);
     }
     id_ = 0;
+    bytes_ = 0;
   }
   GLuint id() const { return id_; }
+  uint64_t bytes() const { return bytes_; }
   explicit operator bool() const { return id_ != 0; }
   static int64_t live() { return live_.load(std::memory_order_relaxed); }
 
  private:
   GLuint id_ = 0;
+  uint64_t bytes_ = 0;
   inline static std::atomic<int64_t> live_{0};
+};
+
+// The memory budget (ssSetMemoryBudget): every texture and buffer the library makes is checked
+// against it before the GL allocates, so a scene too big for the GPU fails with SS_LIMIT_EXCEEDED
+// naming what asked, never with a GL out-of-memory error. 0 sets the automatic budget: 90 % of
+// the memory the driver reports (GL_NVX_gpu_memory_info, GL_ATI_meminfo), else half of the
+// machine's RAM (llvmpipe and other drivers that share system memory).
+uint64_t gpuBytes();
+uint64_t memoryBudget();  // needs a current context the first time, for the automatic budget
+bool memoryBudgetKnown();  // set, or measured already
+void setMemoryBudget(uint64_t bytes);
+// Throws SS_LIMIT_EXCEEDED when `bytes` more would exceed the budget; the message names the
+// innermost Purpose on this thread.
+void reserve(uint64_t bytes);
+
+// What the allocations made while it lives are for, in the budget's error message
+// ("mesh 3 (120000 vertices, 240000 triangles)").
+class Purpose {
+ public:
+  explicit Purpose(std::string what);
+  ~Purpose();
+  Purpose(const Purpose&) = delete;
+  Purpose& operator=(const Purpose&) = delete;
+
+ private:
+  std::string what_;
+  const Purpose* previous_;
+  friend void reserve(uint64_t bytes);
 };
 
 // GL names belong to the OpenGL context that made them (vertex arrays, framebuffers and

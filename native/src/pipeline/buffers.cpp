@@ -54,6 +54,13 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
 void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
   if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
   if (resolution == resolution_ && levels == levels_ && profileSplits == profileSplits_) return;
+  // Old storage goes first (less memory at the peak), and a failed allocation leaves a buffer
+  // that the next call allocates again instead of one with mixed sizes.
+  resolution_ = levels_ = 0;
+  framebuffer_ = gl::Framebuffer();
+  for (gl::Texture* t : {&positionMaterial_, &fluxFootprint_, &normalObject_, &lightDepth_, &depthRange_, &depth_,
+                         &profileSplit_})
+    t->reset();
   positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
@@ -146,6 +153,9 @@ void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
 void SplattingBuffer::resize(int width, int height, int levels) {
   if (!program_) program_ = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag");
   if (width == width_ && height == height_ && levels == levels_) return;
+  width_ = height_ = levels_ = 0;  // as in IrradianceBuffer::resize
+  framebuffer_ = gl::Framebuffer();
+  for (gl::Texture* t : {&positionObject_, &normalMaterial_, &depth_}) t->reset();
   positionObject_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
   normalMaterial_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);

@@ -15,9 +15,12 @@ void Splatting::resize(int width, int height, int levels) {
   }
   bool debugReady = !debug_ || (selection_ && levelCopies_.size() == size_t(levels));
   if (width == width_ && height == height_ && levels == int(exitance_.size()) && debugReady) return;
-  exitance_.clear();
+  width_ = height_ = 0;  // as in IrradianceBuffer::resize
   framebuffers_.clear();
+  exitance_.clear();
   levelCopies_.clear();
+  selectionFramebuffer_ = gl::Framebuffer();
+  selection_ = gl::Texture();
   for (int k = 0; k < levels; ++k) {
     exitance_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
     framebuffers_.push_back(gl::makeFramebuffer({exitance_.back().id()}, 0));
@@ -194,6 +197,11 @@ void Shading::resize(int width, int height) {
     empty_ = gl::makeVertexArray();
   }
   if (width == width_ && height == height_) return;
+  width_ = height_ = 0;  // as in IrradianceBuffer::resize
+  directFramebuffer_.reset();
+  resultFramebuffer_.reset();
+  direct_.reset();
+  result_.reset();
   direct_ = gl::makeTexture2D(GL_RGBA32F, width, height);
   result_ = gl::makeTexture2D(GL_RGBA32F, width, height);
   directFramebuffer_ = gl::makeFramebuffer({direct_.id()}, 0);
