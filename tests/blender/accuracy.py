@@ -127,10 +127,37 @@ def cycles_surface_albedo(reduced_albedo):
     return 0.5 * (lo + hi)
 
 
+def principled_equivalent(material):
+    """Gives a DIPOLE material's node tree the Principled BSDF that EEVEE and Cycles render as the
+    same medium (docs/TRADEOFF.md, "The same materials in EEVEE and Cycles"): Random Walk
+    subsurface with mean free path 1 / sigma_t' (scene units) and the Subsurface Color whose random
+    walk has single-scattering albedo sigma_s' / sigma_t' (isotropic), our eta, roughness and
+    specular. Returns the node."""
+    settings = material.subsplat
+    material.use_nodes = True
+    tree = material.node_tree
+    bsdf = next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if bsdf is None:
+        bsdf = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    output = next((n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"), None) or tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(bsdf.outputs["BSDF"], output.inputs["Surface"])
+    sigma_s_prime, sigma_a = list(settings.sigma_s_prime), list(settings.sigma_a)
+    sigma_t = [s + a for s, a in zip(sigma_s_prime, sigma_a)]
+    colour = [cycles_surface_albedo(s / t) for s, t in zip(sigma_s_prime, sigma_t)]
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Subsurface Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Subsurface"].default_value = 1.0  # 3.x: also the radius scale
+    bsdf.inputs["Subsurface Radius"].default_value = [1.0 / t / settings.mm_per_unit for t in sigma_t]
+    bsdf.inputs["Subsurface IOR"].default_value = settings.eta
+    bsdf.inputs["Specular"].default_value = settings.specular
+    bsdf.inputs["Roughness"].default_value = settings.roughness
+    bsdf.subsurface_method = "RANDOM_WALK"
+    material.use_sss_translucency = True  # EEVEE: light through thin parts as well
+    return bsdf
+
+
 def slab_scene(preset, mm_per_unit, size=64):
     """A 4 x 4 x 1 unit slab of a measured medium under a sun from straight above."""
-    from subsplat import presets
-    _label, sigma_s_prime, sigma_a = presets.MEASURED_MEDIA[preset]
     scene = helpers.empty_scene(size, size)
     material = bpy.data.materials.new(preset.title())
     material.use_nodes = True
@@ -139,19 +166,10 @@ def slab_scene(preset, mm_per_unit, size=64):
     settings.preset = preset
     settings.mm_per_unit = mm_per_unit
     settings.specular = 0.0
-    # The same medium for Cycles: mean free path 1 / sigma_t' (scene units) and the surface
-    # albedo whose random walk has single-scattering albedo sigma_s' / sigma_t' (isotropic).
+    principled_equivalent(material)
     bsdf = material.node_tree.nodes["Principled BSDF"]
-    sigma_t = [s + a for s, a in zip(sigma_s_prime, sigma_a)]
-    colour = [cycles_surface_albedo(s / t) for s, t in zip(sigma_s_prime, sigma_t)]
-    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
-    bsdf.inputs["Subsurface Color"].default_value = (*colour, 1.0)
-    bsdf.inputs["Subsurface"].default_value = 1.0  # 3.x: also the radius scale
-    bsdf.inputs["Subsurface Radius"].default_value = [1.0 / t / mm_per_unit for t in sigma_t]
-    bsdf.inputs["Subsurface IOR"].default_value = presets.MEASURED_ETA
     bsdf.inputs["Specular"].default_value = 0.0
     bsdf.inputs["Roughness"].default_value = 1.0
-    bsdf.subsurface_method = "RANDOM_WALK"
     mesh = bpy.data.meshes.new("Slab")
     mesh.from_pydata([(x, y, z) for z in (-1.0, 0.0) for y in (-2.0, 2.0) for x in (-2.0, 2.0)], [],
                      [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])

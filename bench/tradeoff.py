@@ -1,0 +1,318 @@
+"""Speed against accuracy (issue 8): every real-time method over a sweep of its quality settings,
+EEVEE's and Cycles' subsurface scattering at several sample counts, and REFERENCE as the truth, on
+each example scene; a chart per scene and docs/TRADEOFF.md.
+
+    BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
+        --python bench/tradeoff.py -- [--scenes skin_suzanne ...] [--percentage 25] \
+        [--samples 200000] [--runs 3] [--eevee-samples 1 4 ...] \
+        [--cycles-samples 4 16 ...] [--quick] [--output docs]
+
+One Blender run does everything for every scene:
+- REFERENCE is rendered in Blender (its combined image and exitance mask are the truth);
+- the scene is saved as the library receives it (a scene file) and `subsplat_replay` renders each
+  SubSplat point `--runs` times in one native context: its time is the median frame, as in the
+  viewport, where the context, meshes and materials stay from frame to frame;
+- EEVEE and Cycles render the same scene, with each DIPOLE material given its Principled BSDF
+  equivalent (tests/blender/accuracy.py, principled_equivalent); their time is the wall time of
+  a render after a first one (EEVEE compiles its shaders in the first).
+Error: relative RMSE of linear radiance against REFERENCE over REFERENCE's translucent pixels.
+"""
+import argparse
+import datetime
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import bpy
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
+import accuracy  # noqa: E402
+import helpers  # noqa: E402
+
+SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose")
+DEFAULTS = {"irradiance": 512, "alpha": 15.0, "levels": 0, "epsilon": 0.001}
+
+
+def sweep(quick):
+    """(label, method, irradiance, alpha, levels, epsilon) of every SubSplat point."""
+    points = []
+    if quick:
+        for irradiance in (128, 512):
+            points.append(("BRUTE", irradiance, 15.0, 0, 0.001))
+        points.append(("FULL", 512, 15.0, 0, 0.001))
+        points.append(("FULL", 256, 15.0, 3, 0.01))
+    else:
+        for irradiance in (128, 256, 512, 1024):
+            points.append(("BRUTE", irradiance, 15.0, 0, 0.001))
+        for irradiance in (256, 512):
+            for levels in (0, 2, 3, 4):
+                points.append(("MULTIRES", irradiance, 15.0, levels, 0.001))
+        for irradiance in (512, 1024):
+            for levels, alpha in ((0, 15.0), (3, 15.0), (3, 5.0), (3, 45.0)):
+                points.append(("ADAPTIVE", irradiance, alpha, levels, 0.001))
+        for irradiance in (256, 512, 1024):
+            for levels, epsilon in ((0, 0.001), (3, 0.001), (3, 0.01), (3, 0.0001)):
+                points.append(("FULL", irradiance, 15.0, levels, epsilon))
+        points.append(("FULL", 512, 5.0, 3, 0.001))
+        points.append(("FULL", 512, 45.0, 3, 0.001))
+    return points
+
+
+def label(method, irradiance, alpha, levels, epsilon):
+    return f"{method} {irradiance}² L{levels or 'auto'} α{alpha:g} ε{epsilon:g}"
+
+
+def is_default(method, irradiance, alpha, levels, epsilon):
+    return (irradiance, alpha, levels, epsilon) == tuple(DEFAULTS[k] for k in ("irradiance", "alpha", "levels", "epsilon"))
+
+
+def arguments():
+    parser = argparse.ArgumentParser(prog="bench/tradeoff.py")
+    parser.add_argument("--scenes", nargs="+", default=list(SCENES))
+    parser.add_argument("--percentage", type=int, default=25, help="resolution percentage of the 800x600 scenes")
+    parser.add_argument("--samples", type=int, default=200000, help="REFERENCE surface samples")
+    parser.add_argument("--runs", type=int, default=3, help="replay renders per SubSplat point (median)")
+    parser.add_argument("--eevee-samples", dest="eevee", type=int, nargs="+", default=[1, 4, 16, 64], help="EEVEE render samples")
+    parser.add_argument("--cycles-samples", dest="cycles", type=int, nargs="+", default=[4, 16, 64, 256], help="Cycles samples")
+    parser.add_argument("--quick", action="store_true", help="the reduced sweep (CI)")
+    parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where TRADEOFF.md and images go")
+    parser.add_argument("--replay", default=os.path.join(ROOT, "build", "native", "subsplat_replay"))
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    return parser.parse_args(argv)
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"PF":
+            raise ValueError(f"{path}: not a colour PFM")
+        width, height = map(int, f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(height, width, 3)
+
+
+def mean_ratio(image, truth, mask):
+    return float(image[mask][:, :3].mean() / max(truth[mask][:, :3].mean(), 1e-30))
+
+
+def relative_rmse(image, truth, mask):
+    ours, theirs = image[mask][:, :3].astype(np.float64), truth[mask][:, :3].astype(np.float64)
+    return float(np.sqrt(((ours - theirs) ** 2).mean()) / max(np.sqrt((theirs ** 2).mean()), 1e-30))
+
+
+def subsplat_points(args, name, scene, truth, mask, directory):
+    """Replays the scene file for every SubSplat point; returns point dicts."""
+    scene.render.engine = "SUBSPLAT"
+    scene.subsplat.method = "FULL"
+    scene.subsplat.scene_file = os.path.join(directory, f"{name}.ssscene")
+    bpy.ops.render.render()
+    import subsplat
+    if subsplat.last_render_error():
+        raise RuntimeError(f"{name}: {subsplat.last_render_error()}")
+    groups = {}
+    for point in sweep(args.quick):
+        groups.setdefault(point[1:3], []).append(point)
+    results = []
+    for (irradiance, alpha), points in groups.items():
+        entries = {f"{m}:{levels}@{epsilon:g}": (m, irradiance, alpha, levels, epsilon)
+                   for m, _i, _a, levels, epsilon in points}
+        images = os.path.join(directory, f"{name}_{irradiance}_{alpha:g}")
+        os.makedirs(images, exist_ok=True)
+        report = os.path.join(images, "report.json")
+        command = [args.replay, "--runs", str(args.runs), "--no-reference", "--irradiance", str(irradiance),
+                   "--alpha", str(alpha), "--methods", ",".join(entries), "--images", images, "--json", report,
+                   scene.subsplat.scene_file]
+        print(" ".join(command), flush=True)
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+        with open(report) as f:
+            (entry,) = json.load(f)["scenes"]
+        for figures in entry["methods"]:
+            point = entries[figures["method"]]
+            image = read_pfm(os.path.join(images, f"{name}_{figures['method']}.pfm"))
+            error = relative_rmse(image, truth, mask)
+            if is_default(*point):
+                strip(args, name, f"{point[0].lower()}_default", image, truth, mask)
+            results.append({"engine": "SubSplat", "method": point[0], "label": label(*point),
+                            "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon"), point[1:])),
+                            "default": is_default(*point), "ms": figures["median_frame_ms"], "error": error,
+                            "mean_ratio": mean_ratio(image, truth, mask),
+                            "levels_used": [figures["levels"], figures["splat_levels"]],
+                            "fragments": figures["fragment_invocations"]["total"]})
+            print(f"{name} {results[-1]['label']}: {results[-1]['ms']:.0f} ms, error {error:.4f}", flush=True)
+    return results
+
+
+def strip(args, name, what, image, truth, mask):
+    """images/tradeoff/<scene>_<what>.png: the image | REFERENCE | error x10 (accuracy.write_strip)."""
+    rgba = np.dstack([image[..., :3], np.ones(image.shape[:2] + (1,), dtype=np.float32)])
+    path = os.path.join(args.output, "images", "tradeoff", f"{name}_{what}.png")
+    accuracy.write_strip(path, rgba, truth, mask)
+    return path
+
+
+def foreign_points(args, name, scene, truth, mask):
+    """EEVEE and Cycles on the scene, each DIPOLE material as its Principled equivalent."""
+    for material in bpy.data.materials:
+        if material.subsplat.enabled and material.subsplat.source == "DIPOLE":
+            accuracy.principled_equivalent(material)
+    # SubSplat and REFERENCE light with the scene's lights only (the world is a background colour),
+    # so EEVEE and Cycles render without the world's light; Cycles keeps its light bounced off other
+    # surfaces (2 diffuse bounces, as in docs/ACCURACY.md's slabs), which the others do not have.
+    if scene.world is not None:
+        scene.world.color = (0.0, 0.0, 0.0)
+        if scene.world.use_nodes and scene.world.node_tree is not None:
+            for node in scene.world.node_tree.nodes:
+                if node.type == "BACKGROUND":
+                    node.inputs["Strength"].default_value = 0.0
+    results = []
+    scene.render.engine = "BLENDER_EEVEE"
+    scene.eevee.taa_render_samples = 1
+    helpers.render(scene, f"tradeoff_{name}_eevee_warmup")  # shaders compile in the first render
+    for samples in args.eevee:
+        scene.eevee.taa_render_samples = samples
+        start = time.perf_counter()
+        image = helpers.render(scene, f"tradeoff_{name}_eevee_{samples}")
+        ms = 1e3 * (time.perf_counter() - start)
+        if samples == max(args.eevee):
+            strip(args, name, "eevee", image, truth, mask)
+        results.append({"engine": "EEVEE", "method": "EEVEE", "label": f"EEVEE {samples} samples",
+                        "settings": {"samples": samples}, "default": False, "ms": ms,
+                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask)})
+        print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
+              f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = 1
+    scene.cycles.max_bounces = 4
+    scene.cycles.diffuse_bounces = 2
+    scene.cycles.glossy_bounces = 0
+    scene.cycles.transmission_bounces = 0
+    for samples in args.cycles:
+        scene.cycles.samples = samples
+        start = time.perf_counter()
+        image = helpers.render(scene, f"tradeoff_{name}_cycles_{samples}")
+        ms = 1e3 * (time.perf_counter() - start)
+        if samples == max(args.cycles):
+            strip(args, name, "cycles", image, truth, mask)
+        results.append({"engine": "Cycles", "method": "Cycles", "label": f"Cycles {samples} samples",
+                        "settings": {"samples": samples}, "default": False, "ms": ms,
+                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask)})
+        print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
+              f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
+    return results
+
+
+def pareto(points):
+    """The points no other point beats in both time and error, fastest first."""
+    front, best = [], float("inf")
+    for p in sorted(points, key=lambda p: (p["ms"], p["error"])):
+        if p["error"] < best:
+            front.append(p)
+            best = p["error"]
+    return front
+
+
+def chart(path, name, points, front):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    styles = {"BRUTE": ("tab:gray", "s"), "MULTIRES": ("tab:blue", "^"), "ADAPTIVE": ("tab:green", "v"),
+              "FULL": ("tab:red", "o"), "EEVEE": ("tab:purple", "D"), "Cycles": ("tab:orange", "P")}
+    figure, axes = plt.subplots(figsize=(7.5, 5.0), dpi=100)
+    for method, (colour, marker) in styles.items():
+        mine = [p for p in points if p["method"] == method]
+        if mine:
+            axes.scatter([p["ms"] for p in mine], [p["error"] for p in mine], c=colour, marker=marker, s=36,
+                         label=method, alpha=0.85, edgecolors="none")
+    defaults = [p for p in points if p["default"]]
+    axes.scatter([p["ms"] for p in defaults], [p["error"] for p in defaults], s=220, marker="*", facecolors="none",
+                 edgecolors="black", linewidths=1.2, label="default settings")
+    axes.step([p["ms"] for p in front], [p["error"] for p in front], where="post", color="black", lw=1.0,
+              ls="--", label="Pareto front")
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("frame time (ms, log)")
+    axes.set_ylabel("relative RMSE against REFERENCE (log)")
+    axes.set_title(f"{name}: speed against accuracy")
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8, loc="best")
+    figure.tight_layout()
+    figure.savefig(path)
+    plt.close(figure)
+
+
+def write_document(args, results):
+    command = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
+               f"--python bench/tradeoff.py -- --scenes {' '.join(args.scenes)} --percentage {args.percentage} "
+               f"--samples {args.samples} --runs {args.runs} --eevee-samples {' '.join(map(str, args.eevee))} "
+               f"--cycles-samples {' '.join(map(str, args.cycles))}" + (" --quick" if args.quick else ""))
+    lines = ["# Speed against accuracy", "",
+             "Generated by `bench/tradeoff.py`; do not edit by hand. Rerun with", "", f"    {command}", "",
+             f"Taken {datetime.date.today().isoformat()} on {helpers.machine()}, Blender {bpy.app.version_string}, "
+             "OpenGL: Mesa llvmpipe (the GPU is the CPU here: times are for comparing methods with each other "
+             "in one run, not for a GPU).", "",
+             f"Each scene at {args.percentage} % of 800 x 600; REFERENCE with {args.samples} surface samples is the "
+             "truth. Error: relative RMSE of linear radiance over REFERENCE's translucent pixels. Time: SubSplat, "
+             f"the median of {args.runs} frames replayed in one native context (what a viewport frame costs, "
+             "export aside); EEVEE and Cycles, the wall time of a Blender render after a first one.",
+             "Stars mark SubSplat's default settings (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "
+             "the dashed line is the Pareto front over every engine.", ""]
+    for name, points in results.items():
+        front = pareto(points)
+        lines += [f"## {name}", "", f"![{name}](images/tradeoff/{name}.png)", "",
+                  "Strips (image | REFERENCE | error x10, blue 0 to red 10 % of the mean): FULL at its defaults, "
+                  f"EEVEE at {max(args.eevee)} samples, Cycles at {max(args.cycles)} samples.", "",
+                  f"![FULL](images/tradeoff/{name}_full_default.png)", "",
+                  f"![EEVEE](images/tradeoff/{name}_eevee.png)", "",
+                  f"![Cycles](images/tradeoff/{name}_cycles.png)", "",
+                  "| engine | point | ms | relative RMSE | mean / REFERENCE | on the front |",
+                  "|---|---|---|---|---|---|"]
+        for p in sorted(points, key=lambda p: (p["method"], p["ms"])):
+            lines.append(f"| {p['engine']} | {p['label']}{' (default)' if p['default'] else ''} | {p['ms']:.0f} | "
+                         f"{p['error']:.4f} | {p['mean_ratio']:.3f} | {'yes' if p in front else ''} |")
+        lines.append("")
+    lines += ["## The same materials in EEVEE and Cycles", "",
+              "Each DIPOLE material becomes a Principled BSDF (`principled_equivalent` in tests/blender/accuracy.py): "
+              "Random Walk subsurface, Subsurface Radius = 1 / sigma_t' per channel in scene units, Subsurface "
+              "Color (and Base Color) = the surface albedo whose random walk has single-scattering albedo "
+              "sigma_s' / sigma_t' (the inverse of Cycles 3.x's albedo mapping), Subsurface = 1, IOR = eta, "
+              "our roughness and specular; EEVEE gets Subsurface Translucency. EEVEE's screen-space SSS "
+              "uses the same inputs with its own (Christensen-Burley) profile. Heterogeneous (SubEdit) "
+              "materials are not charted yet: EEVEE ignores a textured radius, and the closest Principled "
+              "set-up for them is still to be written.", ""]
+    path = os.path.join(args.output, "TRADEOFF.md")
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+    with open(os.path.join(args.output, "images", "tradeoff", "tradeoff.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    print(f"wrote {path}", flush=True)
+    return path
+
+
+def main():
+    args = arguments()
+    helpers.enable_addon()
+    images = os.path.join(args.output, "images", "tradeoff")
+    os.makedirs(images, exist_ok=True)
+    results = {}
+    with tempfile.TemporaryDirectory() as directory:
+        for name in args.scenes:
+            scene = accuracy.open_example(name, args.percentage)
+            truth, truth_b, _ = accuracy.render_passes(scene, "REFERENCE", args.samples)
+            mask = truth_b[..., 3] > 0.5
+            points = subsplat_points(args, name, scene, truth, mask, directory)
+            points += foreign_points(args, name, scene, truth, mask)
+            results[name] = points
+            chart(os.path.join(images, f"{name}.png"), name, points, pareto(points))
+    write_document(args, results)
+
+
+if __name__ == "__main__":
+    main()
