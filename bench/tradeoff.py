@@ -5,7 +5,7 @@ each example scene; a chart per scene and docs/TRADEOFF.md.
     BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
         --python bench/tradeoff.py -- [--scenes skin_suzanne ...] [--percentage 25] \
         [--samples 200000] [--runs 3] [--eevee-samples 1 4 ...] \
-        [--cycles-samples 4 16 ...] [--quick] [--output docs]
+        [--cycles-samples 4 16 ...] [--quick] [--output docs] [--from-json docs/images/tradeoff/tradeoff.json]
 
 One Blender run does everything for every scene:
 - REFERENCE is rendered in Blender (its combined image and exitance mask are the truth);
@@ -83,6 +83,8 @@ def arguments():
     parser.add_argument("--quick", action="store_true", help="the reduced sweep (CI)")
     parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where TRADEOFF.md and images go")
     parser.add_argument("--replay", default=os.path.join(ROOT, "build", "native", "subsplat_replay"))
+    parser.add_argument("--from-json", help="redraw the charts and the document from a tradeoff.json, measuring nothing")
+    parser.add_argument("--note", default="", help="a paragraph for the document, on how its figures were taken")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     return parser.parse_args(argv)
 
@@ -104,6 +106,15 @@ def mean_ratio(image, truth, mask):
 def relative_rmse(image, truth, mask):
     ours, theirs = image[mask][:, :3].astype(np.float64), truth[mask][:, :3].astype(np.float64)
     return float(np.sqrt(((ours - theirs) ** 2).mean()) / max(np.sqrt((theirs ** 2).mean()), 1e-30))
+
+
+def robust_rmse(image, truth, mask):
+    """relative_rmse without the worst 0.1 % of pixels (fireflies, shadow-test disagreements under a
+    highlight: accuracy.compare's robust figure)."""
+    ours, theirs = image[mask][:, :3].astype(np.float64), truth[mask][:, :3].astype(np.float64)
+    squared = np.sort(((ours - theirs) ** 2).sum(axis=1))
+    kept = squared[:len(squared) - max(1, len(squared) // 1000)]
+    return float(np.sqrt(kept.mean() / 3.0) / max(np.sqrt((theirs ** 2).mean()), 1e-30))
 
 
 def subsplat_points(args, name, scene, truth, mask, directory):
@@ -142,6 +153,7 @@ def subsplat_points(args, name, scene, truth, mask, directory):
                             "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon"), point[1:])),
                             "default": is_default(*point), "ms": figures["median_frame_ms"], "error": error,
                             "mean_ratio": mean_ratio(image, truth, mask),
+                            "robust_error": robust_rmse(image, truth, mask),
                             "levels_used": [figures["levels"], figures["splat_levels"]],
                             "fragments": figures["fragment_invocations"]["total"]})
             print(f"{name} {results[-1]['label']}: {results[-1]['ms']:.0f} ms, error {error:.4f}", flush=True)
@@ -183,7 +195,8 @@ def foreign_points(args, name, scene, truth, mask):
             strip(args, name, "eevee", image, truth, mask)
         results.append({"engine": "EEVEE", "method": "EEVEE", "label": f"EEVEE {samples} samples",
                         "settings": {"samples": samples}, "default": False, "ms": ms,
-                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask)})
+                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask),
+                        "robust_error": robust_rmse(image, truth, mask)})
         print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
               f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
     scene.render.engine = "CYCLES"
@@ -203,7 +216,8 @@ def foreign_points(args, name, scene, truth, mask):
             strip(args, name, "cycles", image, truth, mask)
         results.append({"engine": "Cycles", "method": "Cycles", "label": f"Cycles {samples} samples",
                         "settings": {"samples": samples}, "default": False, "ms": ms,
-                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask)})
+                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask),
+                        "robust_error": robust_rmse(image, truth, mask)})
         print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
               f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
     return results
@@ -217,6 +231,28 @@ def pareto(points):
             front.append(p)
             best = p["error"]
     return front
+
+
+def front_error_at(front, ms):
+    """The Pareto front's error at a frame time: the lowest error of the points no slower."""
+    return min((p["error"] for p in front if p["ms"] <= ms), default=float("inf"))
+
+
+def summary(points, front):
+    """Lines on where the defaults and the other engines stand against the front."""
+    lines = ["On the front: " + "; ".join(f"{p['label']} ({p['ms']:.0f} ms, {p['error']:.4f})" for p in front) + "."]
+    for p in points:
+        if p["default"] and p["method"] == "FULL":
+            at = front_error_at(front, p["ms"])
+            lines.append(f"FULL at its defaults: {p['ms']:.0f} ms, error {p['error']:.4f}; the front at that time "
+                         f"{at:.4f} (default / front = {p['error'] / at:.2f}).")
+    for engine in ("EEVEE", "Cycles"):
+        mine = [p for p in points if p["engine"] == engine]
+        if mine:
+            best = min(mine, key=lambda p: p["error"])
+            lines.append(f"{engine} at best: {best['label']}, {best['ms']:.0f} ms, error {best['error']:.4f} "
+                         f"(mean {best['mean_ratio']:.2f} x REFERENCE's).")
+    return lines
 
 
 def chart(path, name, points, front):
@@ -248,6 +284,10 @@ def chart(path, name, points, front):
     plt.close(figure)
 
 
+def _figure(value):
+    return "–" if value is None else f"{value:.4f}"
+
+
 def write_document(args, results):
     command = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
                f"--python bench/tradeoff.py -- --scenes {' '.join(args.scenes)} --percentage {args.percentage} "
@@ -264,6 +304,8 @@ def write_document(args, results):
              "export aside); EEVEE and Cycles, the wall time of a Blender render after a first one.",
              "Stars mark SubSplat's default settings (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "
              "the dashed line is the Pareto front over every engine.", ""]
+    if args.note:
+        lines += [args.note, ""]
     for name, points in results.items():
         front = pareto(points)
         lines += [f"## {name}", "", f"![{name}](images/tradeoff/{name}.png)", "",
@@ -272,11 +314,13 @@ def write_document(args, results):
                   f"![FULL](images/tradeoff/{name}_full_default.png)", "",
                   f"![EEVEE](images/tradeoff/{name}_eevee.png)", "",
                   f"![Cycles](images/tradeoff/{name}_cycles.png)", "",
-                  "| engine | point | ms | relative RMSE | mean / REFERENCE | on the front |",
-                  "|---|---|---|---|---|---|"]
+                  *[f"- {line}" for line in summary(points, front)], "",
+                  "| engine | point | ms | relative RMSE | without the worst 0.1 % | mean / REFERENCE | on the front |",
+                  "|---|---|---|---|---|---|---|"]
         for p in sorted(points, key=lambda p: (p["method"], p["ms"])):
             lines.append(f"| {p['engine']} | {p['label']}{' (default)' if p['default'] else ''} | {p['ms']:.0f} | "
-                         f"{p['error']:.4f} | {p['mean_ratio']:.3f} | {'yes' if p in front else ''} |")
+                         f"{p['error']:.4f} | {_figure(p.get('robust_error'))} | {_figure(p.get('mean_ratio'))} | "
+                         f"{'yes' if p in front else ''} |")
         lines.append("")
     lines += ["## The same materials in EEVEE and Cycles", "",
               "Each DIPOLE material becomes a Principled BSDF (`principled_equivalent` in tests/blender/accuracy.py): "
@@ -301,6 +345,14 @@ def main():
     helpers.enable_addon()
     images = os.path.join(args.output, "images", "tradeoff")
     os.makedirs(images, exist_ok=True)
+    if args.from_json:
+        with open(args.from_json) as f:
+            results = json.load(f)
+        args.scenes = list(results)
+        for name, points in results.items():
+            chart(os.path.join(images, f"{name}.png"), name, points, pareto(points))
+        write_document(args, results)
+        return
     results = {}
     with tempfile.TemporaryDirectory() as directory:
         for name in args.scenes:
