@@ -250,7 +250,6 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.height = height;
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  dropImplausibleTimes(stats_);
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
 }
 

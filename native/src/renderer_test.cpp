@@ -6,7 +6,6 @@
 
 #include "material/dipole.h"
 #include "material/splat_kernel.h"
-#include "pipeline/stage_profiler.h"
 #include "scene.h"
 #include "subsplat/subsplat.h"
 #include "testing/egl_context.h"
@@ -95,26 +94,6 @@ TEST_F(Render, BackgroundWhereNothingIsHit) {
   Frame frame = render(8);
   EXPECT_FLOAT_EQ(frame.rgba[2], 0.3f);
   EXPECT_FLOAT_EQ(frame.rgba[3], 1.0f);
-}
-
-TEST(StageTimes, StagesLongerThanTheFrameAreDropped) {
-  SsStats stats{};
-  stats.timers_available = 1;
-  stats.frame_ms = 2000.0;
-  stats.stage_ms[SS_STAGE_BUFFERS] = 900.0;
-  stats.stage_ms[SS_STAGE_SPLATTING] = 1000.0;
-  stats.splat_level_ms[0] = 1000.0;
-  dropImplausibleTimes(stats);
-  EXPECT_EQ(stats.timers_available, 1) << "1900 ms of stages fit a 2000 ms frame";
-  stats.stage_ms[SS_STAGE_BUFFERS] = 1500.0;  // llvmpipe's spans overlap a little
-  dropImplausibleTimes(stats);
-  EXPECT_EQ(stats.timers_available, 1);
-  EXPECT_EQ(stats.stage_ms[SS_STAGE_SPLATTING], 1000.0);
-  stats.stage_ms[SS_STAGE_BUFFERS] = 14201400.0;  // what llvmpipe once reported
-  dropImplausibleTimes(stats);
-  EXPECT_EQ(stats.timers_available, 0);
-  for (double ms : stats.stage_ms) EXPECT_EQ(ms, 0.0);
-  EXPECT_EQ(stats.splat_level_ms[0], 0.0);
 }
 
 }  // namespace
@@ -315,7 +294,6 @@ TEST_F(Multires, StatsSplitSplattingIntoLevelsAndAccumulation) {
   ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
   ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
-  renderWith(SS_METHOD_FULL, 128);  // llvmpipe's first timer queries in a context can be garbage
   SsStats stats = renderWith(SS_METHOD_FULL, 128);
   ASSERT_EQ(stats.splat_levels, 3);
   if (!stats.statistics_available || !stats.timers_available) GTEST_SKIP() << "no pipeline statistics";

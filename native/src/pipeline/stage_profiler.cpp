@@ -37,16 +37,6 @@ void StageProfiler::end() {
   open_ = false;
 }
 
-void dropImplausibleTimes(SsStats& stats) {
-  double staged = 0.0;
-  for (double ms : stats.stage_ms) staged += ms;
-  if (!stats.timers_available || staged <= 2.0 * stats.frame_ms + 10.0) return;
-  stats.timers_available = 0;
-  for (double& ms : stats.stage_ms) ms = 0.0;
-  for (double& ms : stats.splat_level_ms) ms = 0.0;
-  stats.accumulation_ms = 0.0;
-}
-
 void StageProfiler::collect(SsStats& stats) {
   end();
   for (Span& span : spans_) {

@@ -11,13 +11,6 @@
 
 namespace subsplat {
 
-// The stages' GPU time ends before the frame's read-back returns, so together it is about the
-// frame's wall time (frame_ms) at most: llvmpipe's spans overlap a little (250 ms of stages in a
-// 232 ms frame). In the first frame of a context llvmpipe reports absurd times for the buffers
-// stage (18 395 704 ms in a 279 ms frame): when the stages exceed twice the frame plus 10 ms, their
-// times are zeroed and timers_available cleared, so that no benchmark charts them.
-void dropImplausibleTimes(SsStats& stats);
-
 class StageProfiler {
  public:
   static constexpr int kWhole = -1;         // the stage only
