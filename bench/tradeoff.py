@@ -182,44 +182,31 @@ def foreign_points(args, name, scene, truth, mask):
             for node in scene.world.node_tree.nodes:
                 if node.type == "BACKGROUND":
                     node.inputs["Strength"].default_value = 0.0
-    results = []
     scene.render.engine = "BLENDER_EEVEE"
     scene.eevee.taa_render_samples = 1
     helpers.render(scene, f"tradeoff_{name}_eevee_warmup")  # shaders compile in the first render
-    for samples in args.eevee:
+
+    def eevee(samples):
         scene.eevee.taa_render_samples = samples
-        start = time.perf_counter()
-        image = helpers.render(scene, f"tradeoff_{name}_eevee_{samples}")
-        ms = 1e3 * (time.perf_counter() - start)
-        if samples == max(args.eevee):
-            strip(args, name, "eevee", image, truth, mask)
-        results.append({"engine": "EEVEE", "method": "EEVEE", "label": f"EEVEE {samples} samples",
-                        "settings": {"samples": samples}, "default": False, "ms": ms,
-                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask),
-                        "robust_error": robust_rmse(image, truth, mask)})
-        print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
-              f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.use_denoising = False
-    scene.cycles.seed = 1
-    scene.cycles.max_bounces = 4
-    scene.cycles.diffuse_bounces = 2
-    scene.cycles.glossy_bounces = 0
-    scene.cycles.transmission_bounces = 0
-    for samples in args.cycles:
-        scene.cycles.samples = samples
-        start = time.perf_counter()
-        image = helpers.render(scene, f"tradeoff_{name}_cycles_{samples}")
-        ms = 1e3 * (time.perf_counter() - start)
-        if samples == max(args.cycles):
-            strip(args, name, "cycles", image, truth, mask)
-        results.append({"engine": "Cycles", "method": "Cycles", "label": f"Cycles {samples} samples",
-                        "settings": {"samples": samples}, "default": False, "ms": ms,
-                        "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask),
-                        "robust_error": robust_rmse(image, truth, mask)})
-        print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
-              f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
+
+    def cycles(samples):
+        accuracy.use_cycles(scene, samples)
+
+    results = []
+    for engine, counts, prepare in (("EEVEE", args.eevee, eevee), ("Cycles", args.cycles, cycles)):
+        for samples in counts:
+            prepare(samples)
+            start = time.perf_counter()
+            image = helpers.render(scene, f"tradeoff_{name}_{engine.lower()}_{samples}")
+            ms = 1e3 * (time.perf_counter() - start)
+            if samples == max(counts):
+                strip(args, name, engine.lower(), image, truth, mask)
+            results.append({"engine": engine, "method": engine, "label": f"{engine} {samples} samples",
+                            "settings": {"samples": samples}, "default": False, "ms": ms,
+                            "error": relative_rmse(image, truth, mask), "mean_ratio": mean_ratio(image, truth, mask),
+                            "robust_error": robust_rmse(image, truth, mask)})
+            print(f"{name} {results[-1]['label']}: {ms:.0f} ms, error {results[-1]['error']:.4f}, "
+                  f"mean / REFERENCE {results[-1]['mean_ratio']:.3f}", flush=True)
     return results
 
 

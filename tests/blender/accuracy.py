@@ -181,19 +181,25 @@ def slab_scene(preset, mm_per_unit, size=64):
     return scene
 
 
-def reference_against_cycles(preset, mm_per_unit=100.0, cycles_samples=128, reference_samples=100000):
-    """Mean radiance per channel over the centre of the slab: REFERENCE, Cycles, and their ratio."""
-    scene = slab_scene(preset, mm_per_unit)
-    reference, _exitance, _stats = render_passes(scene, "REFERENCE", reference_samples)
+def use_cycles(scene, samples):
+    """Cycles on the CPU as the comparisons run it: no denoising, a fixed seed, 2 diffuse bounces
+    (light off other surfaces), no glossy or transmission bounces."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
-    scene.cycles.samples = cycles_samples
+    scene.cycles.samples = samples
     scene.cycles.use_denoising = False
     scene.cycles.seed = 1
     scene.cycles.max_bounces = 4
     scene.cycles.diffuse_bounces = 2
     scene.cycles.glossy_bounces = 0
     scene.cycles.transmission_bounces = 0
+
+
+def reference_against_cycles(preset, mm_per_unit=100.0, cycles_samples=128, reference_samples=100000):
+    """Mean radiance per channel over the centre of the slab: REFERENCE, Cycles, and their ratio."""
+    scene = slab_scene(preset, mm_per_unit)
+    reference, _exitance, _stats = render_passes(scene, "REFERENCE", reference_samples)
+    use_cycles(scene, cycles_samples)
     cycles = helpers.render(scene, f"cycles_slab_{preset.lower()}")
     ours = helpers.centre(reference, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
     theirs = helpers.centre(cycles, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
