@@ -35,40 +35,62 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
 import accuracy  # noqa: E402
 import helpers  # noqa: E402
 
-SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose")
-DEFAULTS = {"irradiance": 512, "alpha": 15.0, "levels": 0, "epsilon": 0.001}
+SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose", "candle_twist", "heterogeneous")
+DEFAULTS = {"irradiance": 512, "alpha": 15.0, "levels": 0, "epsilon": 0.001}  # manual quality's
+AUTO_DEFAULT_TARGET = 0.01  # scene.subsplat.target_error's default
+RUNGS = (128, 256, 512, 1024)
 
 
-def sweep(quick):
-    """(label, method, irradiance, alpha, levels, epsilon) of every SubSplat point."""
+def sweep(kind):
+    """(method, irradiance, alpha, levels, epsilon, target) of every SubSplat point. irradiance 0 is
+    the automatic quality (FULL, the resolution chosen for the target error, levels automatic)."""
+    auto = [("AUTO", 0, 15.0, 0, 0.001, target) for target in (0.02, AUTO_DEFAULT_TARGET, 0.005)]
+    if kind == "quick":
+        return [("BRUTE", 128, 15.0, 0, 0.001, None), ("BRUTE", 512, 15.0, 0, 0.001, None),
+                ("FULL", 512, 15.0, 0, 0.001, None), ("FULL", 256, 15.0, 3, 0.01, None),
+                ("AUTO", 0, 15.0, 0, 0.001, AUTO_DEFAULT_TARGET)]
+    if kind == "rungs":  # docs/AUTO.md's table: each rung's error and texels per R_P
+        return [(m, r, 15.0, 0, 0.001, None) for r in RUNGS for m in ("BRUTE", "FULL")] + auto
+    if kind == "auto":  # AUTO first; auto_sweep() chooses the rest from its resolution
+        return [("AUTO", 0, 15.0, 0, 0.001, AUTO_DEFAULT_TARGET)]
     points = []
-    if quick:
-        for irradiance in (128, 512):
-            points.append(("BRUTE", irradiance, 15.0, 0, 0.001))
-        points.append(("FULL", 512, 15.0, 0, 0.001))
-        points.append(("FULL", 256, 15.0, 3, 0.01))
-    else:
-        for irradiance in (128, 256, 512, 1024):
-            points.append(("BRUTE", irradiance, 15.0, 0, 0.001))
-        for irradiance in (256, 512):
-            for levels in (0, 2, 3, 4):
-                points.append(("MULTIRES", irradiance, 15.0, levels, 0.001))
-        for irradiance in (512, 1024):
-            for levels, alpha in ((0, 15.0), (3, 15.0), (3, 5.0), (3, 45.0)):
-                points.append(("ADAPTIVE", irradiance, alpha, levels, 0.001))
-        for irradiance in (256, 512, 1024):
-            for levels, epsilon in ((0, 0.001), (3, 0.001), (3, 0.01), (3, 0.0001)):
-                points.append(("FULL", irradiance, 15.0, levels, epsilon))
-        points.append(("FULL", 512, 5.0, 3, 0.001))
-        points.append(("FULL", 512, 45.0, 3, 0.001))
+    for irradiance in RUNGS:
+        points.append(("BRUTE", irradiance, 15.0, 0, 0.001, None))
+    for irradiance in (256, 512):
+        for levels in (0, 2, 3, 4):
+            points.append(("MULTIRES", irradiance, 15.0, levels, 0.001, None))
+    for irradiance in (512, 1024):
+        for levels, alpha in ((0, 15.0), (3, 15.0), (3, 5.0), (3, 45.0)):
+            points.append(("ADAPTIVE", irradiance, alpha, levels, 0.001, None))
+    for irradiance in (256, 512, 1024):
+        for levels, epsilon in ((0, 0.001), (3, 0.001), (3, 0.01), (3, 0.0001)):
+            points.append(("FULL", irradiance, 15.0, levels, epsilon, None))
+    points.append(("FULL", 512, 5.0, 3, 0.001, None))
+    points.append(("FULL", 512, 45.0, 3, 0.001, None))
+    return points + auto
+
+
+def auto_sweep(chosen):
+    """What the AUTO test compares AUTO with, from the resolution it chose: BRUTE and FULL at that
+    resolution and at every rung up to 1.5 times it (the points that can be as fast as AUTO, which
+    set the front at its time), and BRUTE at twice it, up to 1024² (the finest point)."""
+    resolutions = sorted({r for r in RUNGS if r <= 1.5 * chosen} | {chosen})
+    points = [(m, r, 15.0, 0, 0.001, None) for r in resolutions for m in ("BRUTE", "FULL")]
+    finest = min(2 * chosen, 1024)
+    if finest not in resolutions:
+        points.append(("BRUTE", finest, 15.0, 0, 0.001, None))
     return points
 
 
-def label(method, irradiance, alpha, levels, epsilon):
+def label(method, irradiance, alpha, levels, epsilon, target=None):
+    if method == "AUTO":
+        return f"AUTO {100 * target:g} %"
     return f"{method} {irradiance}² L{levels or 'auto'} α{alpha:g} ε{epsilon:g}"
 
 
-def is_default(method, irradiance, alpha, levels, epsilon):
+def is_default(method, irradiance, alpha, levels, epsilon, target=None):
+    if method == "AUTO":
+        return target == AUTO_DEFAULT_TARGET
     return (irradiance, alpha, levels, epsilon) == tuple(DEFAULTS[k] for k in ("irradiance", "alpha", "levels", "epsilon"))
 
 
@@ -80,13 +102,20 @@ def arguments():
     parser.add_argument("--runs", type=int, default=3, help="replay renders per SubSplat point (median)")
     parser.add_argument("--eevee-samples", dest="eevee", type=int, nargs="+", default=[1, 4, 16, 64], help="EEVEE render samples")
     parser.add_argument("--cycles-samples", dest="cycles", type=int, nargs="+", default=[4, 16, 64, 256], help="Cycles samples")
-    parser.add_argument("--quick", action="store_true", help="the reduced sweep (CI)")
+    parser.add_argument("--quick", action="store_true", help="the reduced sweep (CI's chart test)")
+    parser.add_argument("--sweep", choices=("full", "quick", "rungs", "auto"), default=None,
+                        help="which SubSplat points: every setting (default), the reduced one (--quick), BRUTE and "
+                             "FULL at each irradiance rung with AUTO at three targets (docs/AUTO.md), or AUTO and "
+                             "the points around its choice (the AUTO test)")
+    parser.add_argument("--no-foreign", dest="foreign", action="store_false", help="no EEVEE or Cycles points")
     parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where TRADEOFF.md and images go")
     parser.add_argument("--replay", default=os.path.join(ROOT, "build", "native", "subsplat_replay"))
     parser.add_argument("--from-json", help="redraw the charts and the document from a tradeoff.json, measuring nothing")
     parser.add_argument("--note", default="", help="a paragraph for the document, on how its figures were taken")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    args.sweep = args.sweep or ("quick" if args.quick else "full")
+    return args
 
 
 def read_pfm(path):
@@ -118,7 +147,8 @@ def robust_rmse(image, truth, mask):
 
 
 def subsplat_points(args, name, scene, truth, mask, directory):
-    """Replays the scene file for every SubSplat point; returns point dicts."""
+    """Saves the scene as the library receives it and replays it for every SubSplat point; returns
+    point dicts."""
     scene.render.engine = "SUBSPLAT"
     scene.subsplat.method = "FULL"
     scene.subsplat.scene_file = os.path.join(directory, f"{name}.ssscene")
@@ -126,19 +156,31 @@ def subsplat_points(args, name, scene, truth, mask, directory):
     import subsplat
     if subsplat.last_render_error():
         raise RuntimeError(f"{name}: {subsplat.last_render_error()}")
+    results = replay(args, name, scene, truth, mask, directory, sweep(args.sweep))
+    if args.sweep == "auto":
+        results += replay(args, name, scene, truth, mask, directory, auto_sweep(results[0]["irradiance_used"]))
+    return results
+
+
+def replay(args, name, scene, truth, mask, directory, sweep_points):
+    """Replays the scene file saved by subsplat_points for each point; returns point dicts."""
     groups = {}
-    for point in sweep(args.quick):
-        groups.setdefault(point[1:3], []).append(point)
+    for point in sweep_points:
+        groups.setdefault((point[1], point[2], point[5]), []).append(point)
     results = []
-    for (irradiance, alpha), points in groups.items():
-        entries = {f"{m}:{levels}@{epsilon:g}": (m, irradiance, alpha, levels, epsilon)
-                   for m, _i, _a, levels, epsilon in points}
-        images = os.path.join(directory, f"{name}_{irradiance}_{alpha:g}")
+    for (irradiance, alpha, target), points in groups.items():
+        entries = {f"{'FULL' if m == 'AUTO' else m}:{levels}@{epsilon:g}": (m, irradiance, alpha, levels, epsilon, target)
+                   for m, _i, _a, levels, epsilon, _t in points}
+        what = f"auto{target:g}" if irradiance == 0 else str(irradiance)
+        images = os.path.join(directory, f"{name}_{what}_{alpha:g}")
         os.makedirs(images, exist_ok=True)
         report = os.path.join(images, "report.json")
-        command = [args.replay, "--runs", str(args.runs), "--no-reference", "--irradiance", str(irradiance),
+        command = [args.replay, "--warmup", "1", "--runs", str(args.runs), "--no-reference",
+                   "--irradiance", "auto" if irradiance == 0 else str(irradiance),
                    "--alpha", str(alpha), "--methods", ",".join(entries), "--images", images, "--json", report,
                    scene.subsplat.scene_file]
+        if target is not None:
+            command[1:1] = ["--target-error", str(target)]
         print(" ".join(command), flush=True)
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
         with open(report) as f:
@@ -147,16 +189,19 @@ def subsplat_points(args, name, scene, truth, mask, directory):
             point = entries[figures["method"]]
             image = read_pfm(os.path.join(images, f"{name}_{figures['method']}.pfm"))
             error = relative_rmse(image, truth, mask)
-            if is_default(*point):
+            if is_default(*point) and point[0] in ("FULL", "AUTO"):
                 strip(args, name, f"{point[0].lower()}_default", image, truth, mask)
             results.append({"engine": "SubSplat", "method": point[0], "label": label(*point),
-                            "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon"), point[1:])),
+                            "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon", "target"), point[1:])),
                             "default": is_default(*point), "ms": figures["median_frame_ms"], "error": error,
                             "mean_ratio": mean_ratio(image, truth, mask),
                             "robust_error": robust_rmse(image, truth, mask),
                             "levels_used": [figures["levels"], figures["splat_levels"]],
+                            "irradiance_used": figures["irradiance_resolution"],
+                            "texels_per_range": figures["texels_per_range"],
                             "fragments": figures["fragment_invocations"]["total"]})
-            print(f"{name} {results[-1]['label']}: {results[-1]['ms']:.0f} ms, error {error:.4f}", flush=True)
+            print(f"{name} {results[-1]['label']}: {results[-1]['ms']:.0f} ms, error {error:.4f}, "
+                  f"{figures['irradiance_resolution']}², {figures['texels_per_range']:.2f} texels per R_P", flush=True)
     return results
 
 
@@ -233,6 +278,14 @@ def summary(points, front):
             at = front_error_at(front, p["ms"])
             lines.append(f"FULL at its defaults: {p['ms']:.0f} ms, error {p['error']:.4f}; the front at that time "
                          f"{at:.4f} (default / front = {p['error'] / at:.2f}).")
+    finest = min(p["error"] for p in points if p["engine"] == "SubSplat")
+    for p in points:
+        if p["method"] == "AUTO":
+            at = front_error_at(pareto([q for q in points if q is not p]), p["ms"])
+            lines.append(f"{p['label']}: chose {p['irradiance_used']}² ({p['texels_per_range']:.2f} texels per R_P), "
+                         f"{p['ms']:.0f} ms, error {p['error']:.4f}; the front of the other points at that time "
+                         f"{at:.4f} (AUTO / front = {p['error'] / at:.2f}); over the finest point's {finest:.4f} "
+                         f"it adds {p['error'] - finest:.4f} (target {p['settings']['target']:g}).")
     for engine in ("EEVEE", "Cycles"):
         mine = [p for p in points if p["engine"] == engine]
         if mine:
@@ -247,7 +300,7 @@ def chart(path, name, points, front):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     styles = {"BRUTE": ("tab:gray", "s"), "MULTIRES": ("tab:blue", "^"), "ADAPTIVE": ("tab:green", "v"),
-              "FULL": ("tab:red", "o"), "EEVEE": ("tab:purple", "D"), "Cycles": ("tab:orange", "P")}
+              "FULL": ("tab:red", "o"), "AUTO": ("black", "X"), "EEVEE": ("tab:purple", "D"), "Cycles": ("tab:orange", "P")}
     figure, axes = plt.subplots(figsize=(7.5, 5.0), dpi=100)
     for method, (colour, marker) in styles.items():
         mine = [p for p in points if p["method"] == method]
@@ -279,7 +332,8 @@ def write_document(args, results):
     command = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
                f"--python bench/tradeoff.py -- --scenes {' '.join(args.scenes)} --percentage {args.percentage} "
                f"--samples {args.samples} --runs {args.runs} --eevee-samples {' '.join(map(str, args.eevee))} "
-               f"--cycles-samples {' '.join(map(str, args.cycles))}" + (" --quick" if args.quick else ""))
+               f"--cycles-samples {' '.join(map(str, args.cycles))}" + (f" --sweep {args.sweep}" if args.sweep != "full" else "")
+               + ("" if args.foreign else " --no-foreign"))
     lines = ["# Speed against accuracy", "",
              "Generated by `bench/tradeoff.py`; do not edit by hand. Rerun with", "", f"    {command}", "",
              f"Taken {datetime.date.today().isoformat()} on {helpers.machine()}, Blender {bpy.app.version_string}, "
@@ -289,16 +343,20 @@ def write_document(args, results):
              "truth. Error: relative RMSE of linear radiance over REFERENCE's translucent pixels. Time: SubSplat, "
              f"the median of {args.runs} frames replayed in one native context (what a viewport frame costs, "
              "export aside); EEVEE and Cycles, the wall time of a Blender render after a first one.",
-             "Stars mark SubSplat's default settings (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "
-             "the dashed line is the Pareto front over every engine.", ""]
+             "Stars mark SubSplat's default settings: AUTO at its 1 % target (the default quality, docs/AUTO.md) "
+             "and the manual quality's defaults (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "
+             "the dashed line is the Pareto front over every engine. SubSplat times include one warm-up frame "
+             "per point, not counted.", ""]
     if args.note:
         lines += [args.note, ""]
     for name, points in results.items():
         front = pareto(points)
         lines += [f"## {name}", "", f"![{name}](images/tradeoff/{name}.png)", "",
-                  "Strips (image | REFERENCE | error x10, blue 0 to red 10 % of the mean): FULL at its defaults, "
+                  "Strips (image | REFERENCE | error x10, blue 0 to red 10 % of the mean): FULL at its manual defaults, "
                   f"EEVEE at {max(args.eevee)} samples, Cycles at {max(args.cycles)} samples.", "",
                   f"![FULL](images/tradeoff/{name}_full_default.png)", "",
+                  *([f"AUTO at its default target: ![AUTO](images/tradeoff/{name}_auto_default.png)", ""]
+                    if any(p["method"] == "AUTO" and p["default"] for p in points) else []),
                   f"![EEVEE](images/tradeoff/{name}_eevee.png)", "",
                   f"![Cycles](images/tradeoff/{name}_cycles.png)", "",
                   *[f"- {line}" for line in summary(points, front)], "",
@@ -347,7 +405,8 @@ def main():
             truth, truth_b, _ = accuracy.render_passes(scene, "REFERENCE", args.samples)
             mask = truth_b[..., 3] > 0.5
             points = subsplat_points(args, name, scene, truth, mask, directory)
-            points += foreign_points(args, name, scene, truth, mask)
+            if args.foreign:
+                points += foreign_points(args, name, scene, truth, mask)
             results[name] = points
             chart(os.path.join(images, f"{name}.png"), name, points, pareto(points))
     write_document(args, results)

@@ -162,8 +162,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
             stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
             context.save_scene(stats["scene_file"])
         stats.update(method=settings.method, preview=self.is_preview, export_ms=export_ms, meshes=len(frame.meshes),
-                     lights=len(frame.lights), irradiance_resolution=settings.irradiance_resolution,
-                     reference_samples=settings.reference_samples)
+                     lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
         _last_stats.clear()
         _last_stats.update(stats)
         passes = {EXITANCE_PASS: exitance}
@@ -185,8 +184,8 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
         if settings.method == "REFERENCE":
             detail = f"{stats['splat_count']} surface samples"
         else:
-            detail = (f"{stats['splat_count']} splats, {stats['levels']} irradiance / "
-                      f"{stats['splat_levels']} splatting levels")
+            detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['splat_count']} splats, "
+                      f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
         self.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
 
 

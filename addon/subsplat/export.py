@@ -403,13 +403,17 @@ def native_settings(scene, debug_passes=False):
     settings = scene.subsplat
     result = native.Settings()
     result.method = native.METHODS[settings.method]
-    result.irradiance_resolution = settings.irradiance_resolution
     result.background = native.Float4(*background(scene))
     result.reference_samples = settings.reference_samples
-    result.levels = settings.levels
-    result.z0_factor = settings.z0_factor
-    result.alpha = settings.alpha
-    result.epsilon = settings.epsilon
+    if settings.quality == "AUTO":  # 0: the library's automatic resolution and levels, default thresholds
+        result.irradiance_resolution = 0
+        result.target_error = settings.target_error
+    else:
+        result.irradiance_resolution = settings.irradiance_resolution
+        result.levels = settings.levels
+        result.z0_factor = settings.z0_factor
+        result.alpha = settings.alpha
+        result.epsilon = settings.epsilon
     result.lambda_z = settings.lambda_z
     result.lambda_m = settings.lambda_m
     result.debug_passes = int(debug_passes)

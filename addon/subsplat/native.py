@@ -9,7 +9,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 8
+API_VERSION = 9
 STAGES = ("buffers", "splatting", "shading", "readback")
 METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
 PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
@@ -92,7 +92,8 @@ class Settings(ctypes.Structure):
     _fields_ = [("method", ctypes.c_int32), ("irradiance_resolution", ctypes.c_int32),
                 ("background", Float4), ("reference_samples", ctypes.c_uint32), ("levels", ctypes.c_int32),
                 ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
-                ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32)]
+                ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32),
+                ("target_error", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):
@@ -105,7 +106,8 @@ class Stats(ctypes.Structure):
                 ("levels", ctypes.c_int32), ("selected_per_level", ctypes.c_uint64 * 8),
                 ("splat_levels", ctypes.c_int32), ("splat_level_ms", ctypes.c_double * 8),
                 ("splat_level_fragments", ctypes.c_uint64 * 8), ("accumulation_ms", ctypes.c_double),
-                ("accumulation_fragments", ctypes.c_uint64)]
+                ("accumulation_fragments", ctypes.c_uint64), ("irradiance_resolution", ctypes.c_int32),
+                ("texels_per_range", ctypes.c_float)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -435,4 +437,5 @@ class Context:
             "splat_level_ms": [s.splat_level_ms[k] for k in range(max(s.splat_levels, 0))],
             "splat_level_fragments": [int(s.splat_level_fragments[k]) for k in range(max(s.splat_levels, 0))],
             "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
+            "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
         }

@@ -21,27 +21,51 @@ METHOD_ITEMS = [
 ]
 
 
+def _quality_edited(settings, _context):
+    # Setting a quality parameter by hand (in the panel or from Python) makes the quality manual.
+    if settings.quality != "MANUAL":
+        settings["quality"] = 1  # index of MANUAL
+
+
+QUALITY_ITEMS = [
+    ("AUTO", "Automatic",
+     "Irradiance resolution chosen each frame from the scene: the cheapest that is expected to meet the target "
+     "error for the shortest scattering range in view; levels chosen from the ranges, thresholds at the "
+     "paper's values (docs/AUTO.md)"),
+    ("MANUAL", "Manual", "Irradiance resolution, levels and thresholds as set below"),
+]
+
+
 class SubsplatSceneSettings(bpy.types.PropertyGroup):
     method: EnumProperty(name="Method", items=METHOD_ITEMS, default="FULL",
                          description="How irradiance samples are selected and splatted")
+    quality: EnumProperty(name="Quality", items=QUALITY_ITEMS, default="AUTO",
+                          description="How the irradiance resolution, levels and thresholds are chosen")
+    target_error: FloatProperty(
+        name="Target Error", default=0.01, min=0.001, max=0.5, soft_max=0.1, precision=3, step=0.1,
+        subtype="FACTOR",
+        description="Automatic quality: the relative RMSE against Reference to aim for (0.01: 1 %); smaller "
+                    "chooses finer irradiance buffers (slower)")
     irradiance_resolution: IntProperty(
         name="Irradiance Resolution", default=512, min=16, max=8192, soft_min=64, soft_max=2048,
-        description="Texels per side of each irradiance buffer (one per sun or spot light, six per point light)")
+        update=_quality_edited,
+        description="Manual quality: texels per side of each irradiance buffer (one per sun or spot light, six "
+                    "per point light). Setting it makes the quality manual")
     levels: IntProperty(
-        name="Levels", default=0, min=0, max=8,
+        name="Levels", default=0, min=0, max=8, update=_quality_edited,
         description="Levels of the irradiance (adaptive) and splatting (multiresolution) hierarchies; "
                     "0 chooses them each frame from the materials' scattering ranges, the lights and the "
                     "image size (the render stats say what was chosen; the paper uses 3)")
     z0_factor: FloatProperty(
-        name="Depth Threshold", default=0.03, min=1e-4, max=100.0, soft_max=1.0, precision=3,
+        name="Depth Threshold", default=0.03, min=1e-4, max=100.0, soft_max=1.0, precision=3, update=_quality_edited,
         description="Adaptive: z0, the largest depth range under a coarse sample, as a factor of the "
                     "translucent objects' bounding-sphere radius")
     alpha: FloatProperty(
-        name="Sampling Scale", default=15.0, min=0.01, max=1e4, soft_min=1.0, soft_max=100.0,
+        name="Sampling Scale", default=15.0, min=0.01, max=1e4, soft_min=1.0, soft_max=100.0, update=_quality_edited,
         description="Adaptive: alpha of eq. 11; irradiance texels per effective scattering range "
                     "(larger: finer sampling, slower)")
     epsilon: FloatProperty(
-        name="Error Tolerance", default=0.001, min=1e-6, max=0.5, precision=4, step=0.01,
+        name="Error Tolerance", default=0.001, min=1e-6, max=0.5, precision=4, step=0.01, update=_quality_edited,
         description="Multiresolution: epsilon of eq. 14; the largest energy error a coarser splatting "
                     "level may make (smaller: more work at full resolution)")
     lambda_z: FloatProperty(

@@ -29,14 +29,19 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "scene_file")
             layout.label(text="The viewport shows Full; Reference is for final renders", icon="INFO")
             return
-        layout.prop(settings, "irradiance_resolution")
+        layout.prop(settings, "quality")
+        manual = layout.column()
+        if settings.quality == "AUTO":
+            layout.prop(settings, "target_error")
+            manual.active = False  # shown for what they would be; editing one makes the quality manual
+        manual.prop(settings, "irradiance_resolution")
         if settings.method in {"MULTIRES", "ADAPTIVE", "FULL"}:
-            layout.prop(settings, "levels")
+            manual.prop(settings, "levels")
         if settings.method in {"ADAPTIVE", "FULL"}:
-            layout.prop(settings, "z0_factor")
-            layout.prop(settings, "alpha")
+            manual.prop(settings, "z0_factor")
+            manual.prop(settings, "alpha")
         if settings.method in {"MULTIRES", "FULL"}:
-            layout.prop(settings, "epsilon")
+            manual.prop(settings, "epsilon")
             layout.prop(settings, "lambda_z")
             layout.prop(settings, "lambda_m")
         layout.prop(settings, "debug_passes")

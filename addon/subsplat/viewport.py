@@ -236,6 +236,7 @@ class ViewportSession:
         self.counters.draw_ms = (time.perf_counter() - start) * 1e3
         method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
         engine.update_stats("", f"SubSplat {method}: {frame_ms:.0f} ms at {width} x {height}, "
+                                f"{self.stats['irradiance_resolution']}² irradiance, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "
                                 f"{self.stats['splat_levels']} splatting levels")
 

@@ -295,9 +295,13 @@ TEST_F(Api, ZeroAndAbsurdRenderSizesAreRejected) {
   EXPECT_EQ(ssRender(context, 10, -1, pixel), SS_INVALID_ARGUMENT);
   EXPECT_EQ(ssRender(context, 1, 1, nullptr), SS_INVALID_ARGUMENT);
   EXPECT_EQ(ssRender(context, 1 << 20, 1, pixel), SS_LIMIT_EXCEEDED);
-  SsSettings settings{SS_METHOD_BRUTE, 0, {0, 0, 0, 0}};
+  SsSettings settings{SS_METHOD_BRUTE, 8, {0, 0, 0, 0}};  // 0 is automatic; below 16 is refused
   EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT);
   EXPECT_NE(error().find("irradiance resolution"), std::string::npos) << error();
+  settings.irradiance_resolution = -1;
+  EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT);
+  settings.irradiance_resolution = 0;
+  EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << error();
 }
 
 TEST_F(Api, BadMaterialsAreRejectedWithTheValue) {

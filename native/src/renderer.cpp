@@ -38,8 +38,11 @@ void Renderer::setSettings(const SsSettings& s) {
   require(s.reference_samples == 0 || (s.reference_samples >= 1000 && s.reference_samples <= 100000000),
           "reference samples must be 0 (the default) or in [1e3, 1e8], got " +
               std::to_string(s.reference_samples));
-  require(s.irradiance_resolution >= 16 && s.irradiance_resolution <= 8192,
-          "irradiance resolution must be in [16, 8192], got " + std::to_string(s.irradiance_resolution));
+  require(s.irradiance_resolution == 0 || (s.irradiance_resolution >= 16 && s.irradiance_resolution <= 8192),
+          "irradiance resolution must be 0 (automatic) or in [16, 8192], got " +
+              std::to_string(s.irradiance_resolution));
+  require(std::isfinite(s.target_error) && (s.target_error == 0.0f || (s.target_error >= 1e-3f && s.target_error <= 0.5f)),
+          "target error must be 0 (the default) or in [0.001, 0.5], got " + std::to_string(s.target_error));
   if (s.irradiance_resolution > maxTextureSize_)
     fail(SS_LIMIT_EXCEEDED, "irradiance resolution " + std::to_string(s.irradiance_resolution) +
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
@@ -51,6 +54,7 @@ void Renderer::setSettings(const SsSettings& s) {
   if (settings_.epsilon == 0.0f) settings_.epsilon = kDefaultEpsilon;
   if (settings_.lambda_z == 0.0f) settings_.lambda_z = kDefaultLambda;
   if (settings_.lambda_m == 0.0f) settings_.lambda_m = kDefaultLambda;
+  if (settings_.target_error == 0.0f) settings_.target_error = kDefaultTargetError;
 }
 
 void Renderer::uploadMaterials() {
@@ -182,13 +186,15 @@ void Renderer::render(int width, int height, float* rgba) {
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
-  Levels chosen = chooseLevels(width, height, translucent, adaptive, multires);
+  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(translucent);
+  Levels chosen = chooseLevels(width, height, translucent, resolution, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   {
-    std::string size = std::to_string(settings_.irradiance_resolution);
+    std::string size = std::to_string(resolution);
     gl::Purpose purpose("the irradiance buffers (" + size + " x " + size + " texels, " + std::to_string(levels) +
-                        " levels; lower the irradiance resolution)");
-    irradiance_.resize(settings_.irradiance_resolution, levels, scene_.heterogeneous());
+                        " levels; lower the irradiance resolution" +
+                        (settings_.irradiance_resolution == 0 ? " or raise the target error)" : ")"));
+    irradiance_.resize(resolution, levels, scene_.heterogeneous());
   }
   {
     gl::Purpose purpose("the splatting buffers (" + std::to_string(width) + " x " + std::to_string(height) +
@@ -214,6 +220,9 @@ void Renderer::render(int width, int height, float* rgba) {
   KernelTables kernels{kernelTable_.id(), minimalRadius_.id(), kernelLayers_};
   stats_.levels = levels;
   stats_.splat_levels = splatLevels;
+  stats_.irradiance_resolution = resolution;
+  double coarsest = lightTexel(translucent, resolution, false);
+  stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange() / coarsest) : 0.0f;
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
@@ -253,11 +262,60 @@ void Renderer::render(int width, int height, float* rgba) {
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
 }
 
-Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& translucent, bool adaptive,
-                                        bool multires) const {
+double Renderer::shortestRange() const {
+  double range = 0.0;
+  for (const MaterialEntry& m : scene_.denseMaterials()) {
+    if (!m.kernel) continue;
+    for (double r : m.kernel->effectiveRange())
+      if (r > 0.0) range = range > 0.0 ? std::min(range, r) : r;
+  }
+  return range;
+}
+
+double Renderer::lightTexel(const Bounds& translucent, int resolution, bool finest) const {
+  double texel = 0.0;
+  if (translucent.empty()) return texel;
+  Bounds all = scene_.bounds(false);
+  for (const SsLightDesc& light : scene_.lights())
+    for (const LightView& view : lightViews(light, translucent, all, resolution)) {
+      double size = light.type == SS_LIGHT_SUN
+                        ? view.shadowTexelSize
+                        : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
+      size = std::max(size, 1e-12);
+      texel = texel == 0.0 ? size : finest ? std::min(texel, size) : std::max(texel, size);
+    }
+  return texel;
+}
+
+double Renderer::texelsPerRangeFor(double targetError) {
+  // The error the irradiance sampling adds, over what the finest buffer leaves, is at most
+  // 1 % * (texels per R_P / 1.5) ^ -2 on every example scene (bench/tradeoff.py --sweep auto;
+  // docs/AUTO.md), so a target t needs 1.5 * sqrt(1 % / t) texels per R_P.
+  constexpr double kModelError = 0.01, kModelTexels = 1.5, kModelPower = 2.0;
+  return kModelTexels * std::pow(kModelError / targetError, 1.0 / kModelPower);
+}
+
+int Renderer::chooseResolution(const Bounds& translucent) const {
+  // Texels grow with 1 / resolution, so one probe gives the texels per R_P at every
+  // resolution. The rungs step by 1.33-1.5 in texels across (about sqrt(2)), about 2 in work.
+  constexpr int kProbe = 512;
+  static constexpr int kRungs[] = {128, 192, 256, 384, 512, 768, 1024, 1536, 2048};
+  int most = std::min(kAutoResolutionMax, int(maxTextureSize_));
+  double range = shortestRange(), texel = lightTexel(translucent, kProbe, false);
+  if (!(range > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
+  double needed = kProbe * texelsPerRangeFor(settings_.target_error) * texel / range;
+  for (int rung : kRungs)
+    if (rung >= needed && rung <= most) return std::max(rung, kAutoResolutionMin);
+  return most;
+}
+
+Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& translucent, int resolution,
+                                        bool adaptive, bool multires) const {
   Levels levels;
   int maxIrradiance = 1, maxSplat = 1;  // while the coarsest level keeps a texel / pixel
-  while (maxIrradiance < 8 && (settings_.irradiance_resolution >> maxIrradiance) >= 1) ++maxIrradiance;
+  // (and while each level halves the one above exactly: 192 keeps 7 levels, down to 3 x 3)
+  while (maxIrradiance < 8 && (resolution >> maxIrradiance) >= 1 && resolution % (1 << maxIrradiance) == 0)
+    ++maxIrradiance;
   while (maxSplat < 8 && (std::max(width, height) >> maxSplat) >= 1) ++maxSplat;
   if (settings_.levels > 0) {
     levels.irradiance = adaptive ? std::min(settings_.levels, maxIrradiance) : 1;
@@ -265,10 +323,10 @@ Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& tra
     return levels;
   }
   if (translucent.empty()) return levels;
-  double rangeMin = 1e300, rangeMax = 0.0;  // R_P over the translucent materials' channels
+  double rangeMin = shortestRange(), rangeMax = 0.0;  // R_P over the translucent materials' channels
   for (const MaterialEntry& m : scene_.denseMaterials()) {
     if (!m.kernel) continue;
-    for (double r : m.kernel->effectiveRange()) rangeMin = std::min(rangeMin, r), rangeMax = std::max(rangeMax, r);
+    for (double r : m.kernel->effectiveRange()) rangeMax = std::max(rangeMax, r);
   }
   if (!(rangeMax > 0.0)) return levels;
   auto clampLevels = [](double log2Ratio, int most) {
@@ -277,16 +335,8 @@ Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& tra
   if (adaptive) {
     // The finest texel any light view puts on the translucent objects, and the coarsest
     // level at which such a texel, facing the light, could still be fine enough (eq. 11).
-    double texel = 1e300;
-    Bounds all = scene_.bounds(false);
-    for (const SsLightDesc& light : scene_.lights())
-      for (const LightView& view : lightViews(light, translucent, all, settings_.irradiance_resolution)) {
-        double size = light.type == SS_LIGHT_SUN
-                          ? view.shadowTexelSize
-                          : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
-        texel = std::min(texel, std::max(size, 1e-12));
-      }
-    if (texel < 1e300) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
+    double texel = lightTexel(translucent, resolution, true);
+    if (texel > 0.0) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
   }
   if (multires) {
     // The coarsest splatting level keeps kCoarsestPixelsPerRange pixels per R_P (the longest

@@ -6,6 +6,7 @@
 
 #include "material/dipole.h"
 #include "material/splat_kernel.h"
+#include "renderer.h"
 #include "scene.h"
 #include "subsplat/subsplat.h"
 #include "testing/egl_context.h"
@@ -243,6 +244,57 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
   SsStats stats = renderWith(SS_METHOD_FULL, 128, 0.0f, 0);
   EXPECT_EQ(stats.levels, 1);
   EXPECT_EQ(stats.splat_levels, 1);
+}
+
+// irradiance_resolution = 0 chooses the cheapest resolution that puts the texels per R_P the
+// target error needs on the translucent objects: a shorter range (more millimetres per unit)
+// or a smaller target gets a finer buffer, up to the largest rung; the stats say what was
+// chosen. A fixed resolution is used as set, and its texels per R_P are reported too.
+TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
+  SsMeshDesc slab = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(0.5f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  auto renderAuto = [&](float targetError) {
+    SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
+    settings.target_error = targetError;
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    last = render(32);
+    SsStats stats{};
+    EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
+    return stats;
+  };
+  int previous = 0, first = 0;
+  for (float mmPerUnit : {200.0f, 2000.0f, 20000.0f}) {
+    SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
+    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+    SsStats stats = renderAuto(0.0f);
+    std::printf("%.0f mm per unit: %d², %.2f texels per R_P\n", mmPerUnit, stats.irradiance_resolution,
+                stats.texels_per_range);
+    EXPECT_GE(stats.irradiance_resolution, Renderer::kAutoResolutionMin);
+    EXPECT_LE(stats.irradiance_resolution, Renderer::kAutoResolutionMax);
+    EXPECT_GE(stats.irradiance_resolution, previous) << mmPerUnit;
+    if (stats.irradiance_resolution > Renderer::kAutoResolutionMin && stats.irradiance_resolution < Renderer::kAutoResolutionMax)
+      EXPECT_GE(stats.texels_per_range, Renderer::texelsPerRangeFor(Renderer::kDefaultTargetError) * 0.999);
+    if (first == 0) first = stats.irradiance_resolution;
+    previous = stats.irradiance_resolution;
+  }
+  EXPECT_GT(previous, first) << "a range 100 times shorter needs a finer buffer";
+  SsMaterialDesc marble = testing::marbleMaterial(2000.0f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+  int coarse = renderAuto(0.05f).irradiance_resolution, fine = renderAuto(0.002f).irradiance_resolution;
+  EXPECT_GT(fine, coarse) << "a smaller target gets a finer buffer";
+  EXPECT_LT(renderAuto(0.05f).texels_per_range, renderAuto(0.002f).texels_per_range);
+  SsStats fixed = renderWith(SS_METHOD_FULL, 32, 0.0f, 0);  // 256² irradiance
+  EXPECT_EQ(fixed.irradiance_resolution, 256);
+  EXPECT_GT(fixed.texels_per_range, 0.0f);
+
+  SsSettings bad{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
+  bad.target_error = 0.9f;
+  EXPECT_EQ(ssSetSettings(context, &bad), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("target error"), std::string::npos) << ssGetLastError();
 }
 
 // The debug passes: the selection pass colours the irradiance level of the

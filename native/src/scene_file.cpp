@@ -17,7 +17,10 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;
+// Format 1 is format 2 with a shorter settings record (no target_error: the default).
+constexpr uint32_t kOldestFormatVersion = 1;
+constexpr size_t kSettingsBytesV1 = 14 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
 constexpr uint32_t kMeshHasUvs = 1;
 
@@ -27,7 +30,8 @@ constexpr uint32_t kMeshHasUvs = 1;
 // then for SUBEDIT the profile set: n, r_s, palette and map.
 constexpr size_t kMaterialBytes = 14 * 4;
 static_assert(offsetof(SsMaterialDesc, profiles) == kMaterialBytes && sizeof(SsLightDesc) == 13 * 4 &&
-                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 14 * 4,
+                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 15 * 4 &&
+                  offsetof(SsSettings, target_error) == kSettingsBytesV1,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "scene files are little-endian");
 
@@ -158,9 +162,9 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
   for (char& c : magic) c = file.get<char>();
   require(std::memcmp(magic, kMagic, sizeof magic) == 0, path + " is not a subsplat scene file");
   uint32_t version = file.get<uint32_t>();
-  require(version == kFormatVersion, path + ": scene file format " + std::to_string(version) +
-                                         " is not supported (this library reads format " +
-                                         std::to_string(kFormatVersion) + ")");
+  require(version >= kOldestFormatVersion && version <= kFormatVersion,
+          path + ": scene file format " + std::to_string(version) + " is not supported (this library reads formats " +
+              std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion) + ")");
   file.get<uint32_t>();  // API version that wrote it, informational
   int index = 0;
   while (file.remaining() > 0) {
@@ -186,9 +190,17 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
       case kCamera:
         renderer.scene().setCamera(r.get<SsCameraDesc>());
         break;
-      case kSettings:
-        renderer.setSettings(r.get<SsSettings>());
+      case kSettings: {
+        SsSettings settings{};
+        if (version == 1) {
+          std::vector<char> v1 = r.getArray<char>(kSettingsBytesV1);
+          std::memcpy(&settings, v1.data(), v1.size());
+        } else {
+          settings = r.get<SsSettings>();
+        }
+        renderer.setSettings(settings);
         break;
+      }
       case kFrame:
         frame.width = r.get<int32_t>();
         frame.height = r.get<int32_t>();

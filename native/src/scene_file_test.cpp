@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -150,6 +151,47 @@ TEST_F(SceneFile, DamagedFilesAreRejectedAndLeaveTheSceneEmpty) {
   writeBytes(notScene, notScene.size());
   EXPECT_EQ(ssLoadScene(context, path.c_str(), nullptr, nullptr), SS_INVALID_ARGUMENT);
   EXPECT_NE(std::string(ssGetLastError()).find("is not a subsplat scene file"), std::string::npos);
+}
+
+// Format 1 (before SsSettings.target_error) still loads: its shorter settings record takes the
+// default target.
+TEST_F(SceneFile, FormatOneFilesStillLoad) {
+  SsMaterialDesc opaque{};
+  opaque.kind = SS_MATERIAL_OPAQUE;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
+  SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 1}, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0, 0.05f};
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
+  std::vector<char> bytes = fileBytes();
+  uint32_t one = 1;
+  std::memcpy(&bytes[8], &one, 4);
+  size_t at = 16, found = 0;
+  while (at + 16 <= bytes.size()) {
+    uint32_t tag;
+    uint64_t size;
+    std::memcpy(&tag, &bytes[at], 4);
+    std::memcpy(&size, &bytes[at + 8], 8);
+    if (tag == 5) {  // settings: drop target_error, the last field
+      ASSERT_EQ(size, sizeof(SsSettings));
+      uint64_t shorter = size - 4;
+      std::memcpy(&bytes[at + 8], &shorter, 8);
+      bytes.erase(bytes.begin() + std::ptrdiff_t(at + 16 + shorter), bytes.begin() + std::ptrdiff_t(at + 16 + size));
+      size = shorter;
+      ++found;
+    }
+    at += 16 + size;
+  }
+  ASSERT_EQ(found, 1u);
+  writeBytes(bytes, bytes.size());
+  SsContext old = nullptr;
+  ASSERT_EQ(ssNewContext(&old), SS_OK);
+  ASSERT_EQ(ssLoadScene(old, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  SsSettings loaded{};
+  ASSERT_EQ(ssGetSettings(old, &loaded), SS_OK);
+  EXPECT_EQ(loaded.irradiance_resolution, 0);
+  EXPECT_EQ(loaded.method, SS_METHOD_FULL);
+  EXPECT_FLOAT_EQ(loaded.target_error, 0.01f) << "format 1 takes the default target";
+  EXPECT_EQ(ssReleaseContext(old), SS_OK);
 }
 
 }  // namespace

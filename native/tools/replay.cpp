@@ -45,10 +45,11 @@ struct Options {
   std::vector<Variant> methods{variant(SS_METHOD_BRUTE), variant(SS_METHOD_MULTIRES), variant(SS_METHOD_ADAPTIVE),
                                variant(SS_METHOD_FULL)};
   int runs = 3;
+  int warmup = 0;  // frames per method rendered first and not counted
   int width = 0, height = 0;  // 0: the frame size saved in the file
   int levels = -1;            // -1: as saved
-  int irradianceResolution = 0;
-  float epsilon = 0.0f, alpha = 0.0f;  // 0: as saved
+  int irradianceResolution = -1;      // -1: as saved; 0: automatic
+  float epsilon = 0.0f, alpha = 0.0f, z0 = 0.0f, targetError = 0.0f;  // 0: as saved
   uint32_t referenceSamples = 0;
   bool reference = true;
   std::string json, images;
@@ -62,10 +63,13 @@ struct Options {
                "                          METHOD:N gives that entry N levels (FULL:0: FULL with automatic levels),\n"
                "                          METHOD[:N]@E epsilon E (FULL:3@0.01)\n"
                "  --runs N                renders per method, round-robin (default 3)\n"
+               "  --warmup N              renders per method before those, not counted (default 0)\n"
                "  --size WxH              frame size (default: the size saved with the scene)\n"
                "  --levels N              0 automatic, 1-8 forced (default: as saved)\n"
-               "  --irradiance N          irradiance buffer resolution (default: as saved)\n"
+               "  --irradiance N|auto     irradiance buffer resolution, or automatic (default: as saved)\n"
+               "  --target-error E        automatic resolution's target relative RMSE (default: as saved)\n"
                "  --epsilon E, --alpha A  eq. 14's epsilon and eq. 11's alpha (default: as saved)\n"
+               "  --z0 F                  adaptive depth threshold z0 as a factor of the bounding radius\n"
                "  --no-reference          skip REFERENCE and the error columns\n"
                "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
                "  --json FILE             write every figure as JSON\n"
@@ -112,6 +116,8 @@ Options parse(int argc, char** argv) {
         }
         o.methods.push_back(v);
       }
+    } else if (a == "--warmup") {
+      o.warmup = parseInt(value(), "warm-up frames");
     } else if (a == "--runs") {
       o.runs = std::max(1, parseInt(value(), "run count"));
     } else if (a == "--size") {
@@ -123,13 +129,14 @@ Options parse(int argc, char** argv) {
     } else if (a == "--levels") {
       o.levels = parseInt(value(), "levels");
     } else if (a == "--irradiance") {
-      o.irradianceResolution = parseInt(value(), "irradiance resolution");
-    } else if (a == "--epsilon" || a == "--alpha") {
+      std::string text = value();
+      o.irradianceResolution = text == "auto" ? 0 : parseInt(text, "irradiance resolution");
+    } else if (a == "--epsilon" || a == "--alpha" || a == "--z0" || a == "--target-error") {
       std::string text = value();
       char* end = nullptr;
       float v = std::strtof(text.c_str(), &end);
       if (text.empty() || *end != '\0' || !(v > 0.0f)) usage("bad " + a + ": " + text);
-      (a == "--epsilon" ? o.epsilon : o.alpha) = v;
+      (a == "--epsilon" ? o.epsilon : a == "--alpha" ? o.alpha : a == "--z0" ? o.z0 : o.targetError) = v;
     } else if (a == "--no-reference") {
       o.reference = false;
     } else if (a == "--reference-samples") {
@@ -243,8 +250,10 @@ SsSettings settingsFor(const SsSettings& saved, const Options& options, const Va
     settings.epsilon = entry.epsilon;
   else if (options.epsilon > 0.0f)
     settings.epsilon = options.epsilon;
-  if (options.irradianceResolution > 0) settings.irradiance_resolution = options.irradianceResolution;
+  if (options.irradianceResolution >= 0) settings.irradiance_resolution = options.irradianceResolution;
   if (options.alpha > 0.0f) settings.alpha = options.alpha;
+  if (options.z0 > 0.0f) settings.z0_factor = options.z0;
+  if (options.targetError > 0.0f) settings.target_error = options.targetError;
   if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
   return settings;
 }
@@ -275,7 +284,7 @@ struct SceneResults {
   std::vector<Result> results;
 };
 
-// Every entry `runs` times, round-robin, then REFERENCE once for the errors.
+// Every entry `warmup` times uncounted, then `runs` times, round-robin, then REFERENCE once for the errors.
 SceneResults measure(SsContext context, const Options& options, const std::string& path) {
   SceneResults scene;
   scene.name = baseName(path);
@@ -290,11 +299,12 @@ SceneResults measure(SsContext context, const Options& options, const std::strin
 
   scene.results.resize(options.methods.size());
   std::vector<Image> images(options.methods.size());
-  for (int run = 0; run < options.runs; ++run) {
+  for (int run = -options.warmup; run < options.runs; ++run) {
     for (size_t v = 0; v < options.methods.size(); ++v) {
       const Variant& entry = options.methods[v];
       SsStats stats{};
       Image image = render(context, settingsFor(saved, options, entry), scene.width, scene.height, entry.label, stats);
+      if (run < 0) continue;  // a warm-up frame
       if (run == 0) images[v] = std::move(image);
       scene.results[v].variant = entry;
       scene.results[v].runs.push_back(stats);
@@ -368,7 +378,9 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     json << (v ? ", " : "") << "{\"method\": \"" << jsonEscape(r.variant.label) << "\", \"median_frame_ms\": "
          << r.medianMs << ", \"frame_ms\": ";
     jsonList<double>(json, int(r.runs.size()), [&](int i) { return r.runs[size_t(i)].frame_ms; });
-    json << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels << ", \"stage_ms\": {";
+    json << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels
+         << ", \"irradiance_resolution\": " << st.irradiance_resolution
+         << ", \"texels_per_range\": " << st.texels_per_range << ", \"stage_ms\": {";
     for (int k = 0; k < SS_STAGE_COUNT; ++k) json << (k ? ", " : "") << "\"" << kStageNames[k] << "\": " << st.stage_ms[k];
     json << "}, \"fragment_invocations\": {";
     for (int k = 0; k < SS_STAGE_COUNT; ++k) json << "\"" << kStageNames[k] << "\": " << st.fragment_invocations[k] << ", ";

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 8
+#define SS_API_VERSION 9
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -113,7 +113,10 @@ typedef struct SsCameraDesc {
 
 typedef struct SsSettings {
   int32_t method;                /* SsMethod */
-  int32_t irradiance_resolution; /* texels per side of each irradiance view */
+  /* Texels per side of each irradiance view in [16, 8192], or 0: automatic, the
+   * cheapest resolution expected to meet target_error (docs/AUTO.md; the stats
+   * report the choice). */
+  int32_t irradiance_resolution;
   float background[4];           /* RGBA written where no object is hit */
   /* REFERENCE: surface samples over all translucent surfaces together, spread
    * by area (at least one per triangle), in [1e3, 1e8]; 0 for the default, 2e5. */
@@ -131,6 +134,9 @@ typedef struct SsSettings {
   float lambda_m;
   /* Non-zero: keep the debug passes (SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE). */
   int32_t debug_passes;
+  /* Automatic irradiance resolution: the relative RMSE against REFERENCE to aim for,
+   * in [1e-3, 0.5], or 0 for the default, 0.01. Unused at a fixed resolution. */
+  float target_error;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -170,6 +176,11 @@ typedef struct SsStats {
   uint64_t splat_level_fragments[8];
   double accumulation_ms;
   uint64_t accumulation_fragments;
+  /* Irradiance resolution used (the automatic choice, or the one set), and the
+   * irradiance texels across the shortest effective scattering range R_P at it,
+   * on the light view whose texels on the translucent objects are coarsest. */
+  int32_t irradiance_resolution;
+  float texels_per_range;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */
