@@ -42,7 +42,7 @@ RUNGS = (128, 256, 512, 1024)
 
 
 def sweep(kind):
-    """(method, irradiance, alpha, levels, epsilon, target) of every SubSplat point. irradiance 0 is
+    """(method, irradiance, alpha, levels, epsilon, target[, z0]) of every SubSplat point. irradiance 0 is
     the automatic quality (FULL, the resolution chosen for the target error, levels automatic)."""
     auto = [("AUTO", 0, 15.0, 0, 0.001, target) for target in (0.02, AUTO_DEFAULT_TARGET, 0.005)]
     if kind == "quick":
@@ -59,14 +59,18 @@ def sweep(kind):
     for irradiance in (256, 512):
         for levels in (0, 2, 3, 4):
             points.append(("MULTIRES", irradiance, 15.0, levels, 0.001, None))
+    # (alpha and epsilon are swept at 512² and below; at 1024² only the levels, the costliest points)
     for irradiance in (512, 1024):
-        for levels, alpha in ((0, 15.0), (3, 15.0), (3, 5.0), (3, 45.0)):
+        for levels, alpha in ((0, 15.0), (3, 15.0), (3, 5.0), (3, 45.0))[:4 if irradiance < 1024 else 2]:
             points.append(("ADAPTIVE", irradiance, alpha, levels, 0.001, None))
     for irradiance in (256, 512, 1024):
-        for levels, epsilon in ((0, 0.001), (3, 0.001), (3, 0.01), (3, 0.0001)):
+        for levels, epsilon in ((0, 0.001), (3, 0.001), (3, 0.01), (3, 0.0001))[:4 if irradiance < 1024 else 2]:
             points.append(("FULL", irradiance, 15.0, levels, epsilon, None))
     points.append(("FULL", 512, 5.0, 3, 0.001, None))
     points.append(("FULL", 512, 45.0, 3, 0.001, None))
+    for z0 in (0.003, 0.3):  # the depth threshold, as a factor of the bounding radius (default 0.03)
+        points.append(("ADAPTIVE", 512, 15.0, 3, 0.001, None, z0))
+        points.append(("FULL", 512, 15.0, 3, 0.001, None, z0))
     return points + auto
 
 
@@ -82,16 +86,16 @@ def auto_sweep(chosen):
     return points
 
 
-def label(method, irradiance, alpha, levels, epsilon, target=None):
+def label(method, irradiance, alpha, levels, epsilon, target=None, z0=None):
     if method == "AUTO":
         return f"AUTO {100 * target:g} %"
-    return f"{method} {irradiance}² L{levels or 'auto'} α{alpha:g} ε{epsilon:g}"
+    return f"{method} {irradiance}² L{levels or 'auto'} α{alpha:g} ε{epsilon:g}" + (f" z0 {z0:g}" if z0 else "")
 
 
-def is_default(method, irradiance, alpha, levels, epsilon, target=None):
+def is_default(method, irradiance, alpha, levels, epsilon, target=None, z0=None):
     if method == "AUTO":
         return target == AUTO_DEFAULT_TARGET
-    return (irradiance, alpha, levels, epsilon) == tuple(DEFAULTS[k] for k in ("irradiance", "alpha", "levels", "epsilon"))
+    return z0 is None and (irradiance, alpha, levels, epsilon) == tuple(DEFAULTS[k] for k in ("irradiance", "alpha", "levels", "epsilon"))
 
 
 def arguments():
@@ -166,11 +170,12 @@ def replay(args, name, scene, truth, mask, directory, sweep_points):
     """Replays the scene file saved by subsplat_points for each point; returns point dicts."""
     groups = {}
     for point in sweep_points:
-        groups.setdefault((point[1], point[2], point[5]), []).append(point)
+        point = tuple(point) + (None,) * (7 - len(point))  # z0 None: the saved (default) one
+        groups.setdefault((point[1], point[2], point[5], point[6]), []).append(point)
     results = []
-    for (irradiance, alpha, target), points in groups.items():
-        entries = {f"{'FULL' if m == 'AUTO' else m}:{levels}@{epsilon:g}": (m, irradiance, alpha, levels, epsilon, target)
-                   for m, _i, _a, levels, epsilon, _t in points}
+    for (irradiance, alpha, target, z0), points in groups.items():
+        entries = {f"{'FULL' if m == 'AUTO' else m}:{levels}@{epsilon:g}": (m, irradiance, alpha, levels, epsilon, target, z0)
+                   for m, _i, _a, levels, epsilon, _t, _z in points}
         what = f"auto{target:g}" if irradiance == 0 else str(irradiance)
         images = os.path.join(directory, f"{name}_{what}_{alpha:g}")
         os.makedirs(images, exist_ok=True)
@@ -181,6 +186,8 @@ def replay(args, name, scene, truth, mask, directory, sweep_points):
                    scene.subsplat.scene_file]
         if target is not None:
             command[1:1] = ["--target-error", str(target)]
+        if z0 is not None:
+            command[1:1] = ["--z0", str(z0)]
         print(" ".join(command), flush=True)
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
         with open(report) as f:
@@ -192,7 +199,7 @@ def replay(args, name, scene, truth, mask, directory, sweep_points):
             if is_default(*point) and point[0] in ("FULL", "AUTO"):
                 strip(args, name, f"{point[0].lower()}_default", image, truth, mask)
             results.append({"engine": "SubSplat", "method": point[0], "label": label(*point),
-                            "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon", "target"), point[1:])),
+                            "settings": dict(zip(("irradiance", "alpha", "levels", "epsilon", "target", "z0"), point[1:])),
                             "default": is_default(*point), "ms": figures["median_frame_ms"], "error": error,
                             "mean_ratio": mean_ratio(image, truth, mask),
                             "robust_error": robust_rmse(image, truth, mask),
