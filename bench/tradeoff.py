@@ -352,8 +352,8 @@ def write_document(args, results):
              "export aside); EEVEE and Cycles, the wall time of a Blender render after a first one.",
              "Stars mark SubSplat's default settings: AUTO at its 1 % target (the default quality, docs/AUTO.md) "
              "and the manual quality's defaults (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "
-             "the dashed line is the Pareto front over every engine. SubSplat times include one warm-up frame "
-             "per point, not counted.", ""]
+             "the dashed line is the Pareto front over every engine. Each SubSplat point renders one warm-up "
+             "frame first, which is not counted.", ""]
     if args.note:
         lines += [args.note, ""]
     for name, points in results.items():
@@ -381,8 +381,10 @@ def write_document(args, results):
               "sigma_s' / sigma_t' (the inverse of Cycles 3.x's albedo mapping), Subsurface = 1, IOR = eta, "
               "our roughness and specular; EEVEE gets Subsurface Translucency. EEVEE's screen-space SSS "
               "uses the same inputs with its own (Christensen-Burley) profile. Heterogeneous (SubEdit) "
-              "materials are not charted yet: EEVEE ignores a textured radius, and the closest Principled "
-              "set-up for them is still to be written.", ""]
+              "materials (candle_twist, heterogeneous) are not converted: EEVEE and Cycles render them with "
+              "the material's own surface nodes, so their EEVEE and Cycles points say what a user gets "
+              "without SubSplat, not the closest those engines can do, which is still to be written (EEVEE "
+              "ignores a textured radius).", ""]
     path = os.path.join(args.output, "TRADEOFF.md")
     with open(path, "w") as f:
         f.write("\n".join(lines))
