@@ -189,6 +189,16 @@ class Multires : public Render {
     EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
     return stats;
   }
+  // The quad as a 2-unit slab (material 0) under a sun from straight above, seen from above: the
+  // scene of the automatic-choice tests, which then set the material.
+  void setSlabUnderSun() {
+    SsMeshDesc slab = quad.desc(2.0f, 0);
+    ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
+    SsCameraDesc camera = testing::topDownCamera(0.5f);
+    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+    SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
+    ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  }
   Frame last{0, 0, {}};
 };
 
@@ -221,12 +231,7 @@ TEST_F(Multires, PlaneExitanceWithinThreePercent) {
 // (fewer millimetres per unit) gets more splatting levels, and a range too
 // short for the irradiance buffer gets no irradiance hierarchy at all.
 TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
-  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  ASSERT_NO_FATAL_FAILURE(setSlabUnderSun());
   int previous = 0;
   for (float mmPerUnit : {2000.0f, 200.0f, 20.0f}) {
     SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
@@ -251,12 +256,7 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
 // or a smaller target gets a finer buffer, up to the largest rung; the stats say what was
 // chosen. A fixed resolution is used as set, and its texels per R_P are reported too.
 TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
-  SsMeshDesc slab = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(0.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
-  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  ASSERT_NO_FATAL_FAILURE(setSlabUnderSun());
   auto renderAuto = [&](float targetError) {
     SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
     settings.target_error = targetError;

@@ -31,20 +31,12 @@ import helpers  # noqa: E402
 
 helpers.enable_addon()
 sys.path.insert(0, os.path.join(helpers.SOURCE, "bench"))
+from tradeoff import front_error_at, pareto  # noqa: E402
 
 BUILD = os.environ.get("SUBSPLAT_BUILD_DIR", os.path.join(helpers.SOURCE, "build"))
 SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose", "candle_twist", "heterogeneous")
 TARGET = 0.01
 TEXELS_PER_RANGE = 1.5  # Renderer::texelsPerRangeFor(0.01)
-
-
-def pareto(points):
-    front, best = [], float("inf")
-    for p in sorted(points, key=lambda p: (p["ms"], p["error"])):
-        if p["error"] < best:
-            front.append(p)
-            best = p["error"]
-    return front
 
 
 class QualitySetting(unittest.TestCase):
@@ -126,7 +118,7 @@ class AutoQuality(unittest.TestCase):
             auto = self.auto_point(name)
             others = [p for p in points if p is not auto]
             front = pareto(others)
-            at = min((p["error"] for p in front if p["ms"] <= auto["ms"]), default=float("inf"))
+            at = front_error_at(front, auto["ms"])
             print(f"{name}: AUTO {auto['irradiance_used']}², {auto['ms']:.0f} ms, error {auto['error']:.4f}; "
                   f"the front at that time {at:.4f}")
             self.assertLessEqual(auto["error"], 1.5 * at, f"{name}: AUTO {auto} against the front {front}")
