@@ -398,6 +398,9 @@ def export_frame(depsgraph, width, height):
     return frame
 
 
+SMALLEST_WEIGHT = 1e-30
+
+
 def native_settings(scene, debug_passes=False):
     """The scene's SubSplat settings as the library's Settings."""
     settings = scene.subsplat
@@ -414,8 +417,10 @@ def native_settings(scene, debug_passes=False):
         result.z0_factor = settings.z0_factor
         result.alpha = settings.alpha
         result.epsilon = settings.epsilon
-    result.lambda_z = settings.lambda_z
-    result.lambda_m = settings.lambda_m
+    # The C API reads 0 as "the default" (8); here 0 is the user's value, eq. 17 without that weight,
+    # sent as a tiny positive weight (exp(-1e-30 x) is 1 for any difference).
+    result.lambda_z = settings.lambda_z or SMALLEST_WEIGHT
+    result.lambda_m = settings.lambda_m or SMALLEST_WEIGHT
     result.debug_passes = int(debug_passes)
     return result
 
