@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "material/splat_kernel.h"
 #include "subsplat/subsplat.h"
 #include "testing/egl_context.h"
 #include "testing/scenes.h"
@@ -84,6 +85,26 @@ TEST(ApiResources, RenderingAndReleasingLeavesNoHandleOrGlObjectBehind) {
     EXPECT_EQ(after.queries, before.queries);
     EXPECT_EQ(after.orphaned_gl_objects, before.orphaned_gl_objects);
   }
+}
+
+// A dipole's splat kernel is built once per process, not once per context: Blender's UI makes a
+// context for each F12 render and for each viewport, and they find the kernels of the materials
+// they had. A changed dipole gets a kernel of its own.
+TEST(ApiMaterials, ContextsShareTheKernelOfTheSameDipole) {
+  testing::EglContext gl;
+  SsMaterialDesc skin = testing::skinMaterial(123.0f);  // a scale no other test uses
+  auto setIn = [](const SsMaterialDesc& material) {
+    SsContext context = nullptr;
+    ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssSetMaterial(context, 0, &material), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssReleaseContext(context), SS_OK);
+  };
+  const uint64_t before = SplatKernel::builtCount();
+  for (int round = 0; round < 3; ++round) setIn(skin);
+  EXPECT_EQ(SplatKernel::builtCount(), before + 1);
+  skin.mm_per_unit = 124.0f;
+  setIn(skin);
+  EXPECT_EQ(SplatKernel::builtCount(), before + 2);
 }
 
 // The memory budget: a mesh or a frame's buffers beyond it fail with SS_LIMIT_EXCEEDED naming

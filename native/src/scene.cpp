@@ -76,7 +76,7 @@ void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr
     if (same)
       m.kernels = old->kernels;
     else
-      m.kernels.push_back(std::make_shared<const SplatKernel>(dipoleMaterial(desc)));
+      m.kernels.push_back(SplatKernel::forDipole(dipoleMaterial(desc)));
   } else if (desc.kind == SS_MATERIAL_SUBEDIT) {
     m.profiles = std::move(profiles);
     bool same = old && old->profiles == m.profiles && old->desc.mm_per_unit == desc.mm_per_unit;

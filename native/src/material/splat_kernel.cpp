@@ -1,9 +1,47 @@
 #include "material/splat_kernel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <list>
+#include <mutex>
 
 namespace subsplat {
+
+namespace {
+
+std::atomic<uint64_t> kernelsBuilt{0};
+
+bool sameDipole(const DipoleMaterial& a, const DipoleMaterial& b) {
+  for (size_t c = 0; c < 3; ++c)
+    if (a.channels[c].sigmaA != b.channels[c].sigmaA || a.channels[c].sigmaSPrime != b.channels[c].sigmaSPrime ||
+        a.channels[c].eta != b.channels[c].eta)
+      return false;
+  return a.mmPerUnit == b.mmPerUnit;
+}
+
+}  // namespace
+
+std::shared_ptr<const SplatKernel> SplatKernel::forDipole(const DipoleMaterial& material) {
+  static std::mutex mutex;
+  static std::list<std::pair<DipoleMaterial, std::shared_ptr<const SplatKernel>>> recent;  // newest first
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = recent.begin(); it != recent.end(); ++it)
+      if (sameDipole(it->first, material)) {
+        recent.splice(recent.begin(), recent, it);
+        return recent.front().second;
+      }
+  }
+  // Built outside the lock: another thread may build the same kernel meanwhile; both are right.
+  auto kernel = std::make_shared<const SplatKernel>(material);
+  std::lock_guard<std::mutex> lock(mutex);
+  recent.emplace_front(material, kernel);
+  if (recent.size() > kDipoleCacheSize) recent.pop_back();
+  return kernel;
+}
+
+uint64_t SplatKernel::builtCount() { return kernelsBuilt.load(); }
 
 SplatKernel::SplatKernel(const DipoleMaterial& m)
     : SplatKernel(Channels{std::make_shared<Dipole>(m.channels[0]), std::make_shared<Dipole>(m.channels[1]),
@@ -24,6 +62,7 @@ SplatKernel::SplatKernel(Channels channels, double mmPerUnit) : channels_(std::m
     normalisation_[c] = kept > 0.0 ? totalReflectance_[c] / kept : 0.0;
   }
 
+  ++kernelsBuilt;
   table_.assign(size_t(kSizeA) * kSizeD * 4, 0.0f);
   for (int ia = 0; ia < kSizeA; ++ia) {
     double sigma = tableSigma(ia, supportRadius_);
