@@ -79,7 +79,7 @@ def compare(image, image_exitance, reference, reference_exitance):
             "mean_ratio": float(ours.mean() / max(truth.mean(), 1e-30))}
 
 
-def _srgb(linear):
+def srgb(linear):
     x = np.clip(linear, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
@@ -95,7 +95,7 @@ def error_colours(image, reference, mask):
 
 def write_strip(path, image, reference, mask):
     """PNG: image | reference | error x10, display-referred (sRGB, exposure 1)."""
-    strip = np.concatenate([_srgb(image[..., :3]), _srgb(reference[..., :3]), error_colours(image, reference, mask)],
+    strip = np.concatenate([srgb(image[..., :3]), srgb(reference[..., :3]), error_colours(image, reference, mask)],
                            axis=1)
     h, w = strip.shape[:2]
     rgba = np.concatenate([strip, np.ones((h, w, 1))], axis=-1).astype(np.float32)

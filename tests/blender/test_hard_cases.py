@@ -1,6 +1,10 @@
 """Failure cases of image-space splatting, tested rather than hidden: grazing light and a depth
 discontinuity render with finite values and no holes (no translucent pixel left dark where
-REFERENCE has light) for every real-time method."""
+REFERENCE has light) for every real-time method. And bounds from the stability suite's cases
+(tests/blender/stability_cases.py, measured in full by bench/stability.py, docs/STABILITY.md):
+z0 keeps coarse samples from straddling a depth step, eq. 17's material weight keeps light from
+crossing profile boundaries, and one object at 1/1000 and 1000 times the size renders the image it
+renders at size 1."""
 import math
 import os
 import sys
@@ -11,6 +15,8 @@ import helpers  # noqa: E402
 
 subsplat = helpers.enable_addon()
 import accuracy  # noqa: E402
+import numpy as np  # noqa: E402
+import stability_cases  # noqa: E402
 
 METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
 
@@ -66,6 +72,73 @@ class HardCases(unittest.TestCase):
         helpers.top_down_camera(scene, ortho_scale=2.0)
         helpers.add_light(scene, "SUN", rotation=(math.radians(40), 0, math.radians(30)), energy=5.0, angle=0.0)
         self.check_no_holes(scene, "depth_discontinuity")
+
+
+def errors(case, size, samples, variants):
+    """{variant label: (relative RMSE, coarse share)} of `variants` on the case's first set-up; the
+    picture (REFERENCE, each variant, each error x10) goes to $SUBSPLAT_TEST_OUTPUT/hard_<case>.png."""
+    subset = stability_cases.Case(case.name, case.title, case.setups[:1], variants, case.settings)
+    (setup,) = stability_cases.measure(subset, size, samples)
+    stability_cases.picture(os.path.join(helpers.OUTPUT, f"hard_{case.name}.png"), case.title, setup)
+    return {r["variant"]: (r["relative_rmse"], r["coarse_share"]) for r in setup["rows"]}
+
+
+def case(name):
+    return next(c for c in stability_cases.CASES if c.name == name)
+
+
+class StabilityBounds(unittest.TestCase):
+    Variant = stability_cases.Variant
+
+    def test_z0_keeps_coarse_samples_off_a_depth_step(self):
+        # The step with a range long enough for coarse samples (bench: FULL takes 97 % of the texels
+        # from them). At the paper's z0 FULL stays within 1.1x BRUTE; with z0 at 0.3 of the bounding
+        # radius coarse texels straddle the step and average the two surfaces: the error grows.
+        measured = errors(case("depth"), 48, 20000, [self.Variant("BRUTE", "BRUTE"), self.Variant("FULL", "FULL"),
+                                                   self.Variant("FULL z0 0.3", "FULL", {"z0_factor": 0.3})])
+        print("depth step:", {k: (round(e, 4), round(c, 2)) for k, (e, c) in measured.items()}, flush=True)
+        brute, (full, coarse), (loose, _) = measured["BRUTE"][0], measured["FULL"], measured["FULL z0 0.3"]
+        self.assertGreater(coarse, 0.5, "the case must select coarse samples")
+        self.assertLess(full, 1.1 * brute)
+        self.assertGreater(loose, 1.1 * full, "z0 too large lets coarse samples straddle the step")
+
+    def test_material_weight_keeps_light_at_profile_boundaries(self):
+        # The chessboard with epsilon 0.01, where coarse splatting levels carry a good part of the
+        # light: without eq. 17's material weight (lambda_m 0) upsampling mixes the squares' levels.
+        variants = [self.Variant(f"lambda_m {v:g}", "MULTIRES", {"epsilon": 0.01, "lambda_m": v}) for v in (0.0, 8.0)]
+        measured = errors(case("material"), 48, 40000, [self.Variant("BRUTE", "BRUTE")] + variants)
+        print("chessboard, MULTIRES at epsilon 0.01:", {k: round(e, 4) for k, (e, _) in measured.items()}, flush=True)
+        self.assertLess(measured["lambda_m 8"][0], 1.5 * measured["BRUTE"][0])
+        self.assertGreater(measured["lambda_m 0"][0], 1.2 * measured["lambda_m 8"][0])
+
+    def test_zero_sharpness_reaches_the_library_as_no_weight(self):
+        # The C API reads 0 as "the default"; a user's 0 must arrive as no weight, not as 8.
+        scene = helpers.empty_scene(8, 8)
+        scene.subsplat.lambda_m, scene.subsplat.lambda_z = 0.0, 0.0
+        settings = subsplat.export.native_settings(scene)
+        for value in (settings.lambda_m, settings.lambda_z):
+            self.assertGreater(value, 0.0)
+            self.assertLess(value, 1e-20)
+
+    def test_tiny_and_huge_objects_render_the_image_of_size_one(self):
+        # A marble sphere of radius 0.0005, 0.5 and 500 units with its millimetres per unit scaled to
+        # match: one physical object, one image (depth ranges, z0, light views and kernels all scale).
+        scale = case("scale")
+        images = {}
+        for label, build in scale.setups:
+            scene = build(32)
+            scene.render.engine = "SUBSPLAT"
+            stability_cases.apply(scene, scale.settings)
+            for method in ("REFERENCE", "BRUTE", "FULL"):
+                images[label, method] = accuracy.render_passes(scene, method, 20000)[0]
+        for label, _ in scale.setups:
+            for method in ("REFERENCE", "BRUTE", "FULL"):
+                ours, unit = images[label, method], images["x1", method]
+                difference = float(np.abs(ours[..., :3] - unit[..., :3]).mean() / np.abs(unit[..., :3]).mean())
+                with self.subTest(scale=label, method=method):
+                    if difference >= 0.005:
+                        helpers.write_difference(f"hard_scale_{label}_{method.lower()}", ours, unit)
+                    self.assertLess(difference, 0.005, f"{method} at {label} against x1")
 
 
 if __name__ == "__main__":
