@@ -189,13 +189,10 @@ class Multires : public Render {
     EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
     return stats;
   }
-  // The quad as a 2-unit slab (material 0) under a sun from straight above, seen from above: the
-  // scene of the automatic-choice tests, which then set the material.
-  void setSlabUnderSun() {
-    SsMeshDesc slab = quad.desc(2.0f, 0);
-    ASSERT_EQ(ssSetMesh(context, 0, &slab), SS_OK);
-    SsCameraDesc camera = testing::topDownCamera(0.5f);
-    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  // The automatic-choice tests' scene: testing::setSlab's slab of `material` under a sun from
+  // straight above.
+  void setSlabUnderSun(const SsMaterialDesc& material) {
+    ASSERT_EQ(testing::setSlab(context, quad, material), SS_OK) << ssGetLastError();
     SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
     ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
   }
@@ -231,11 +228,9 @@ TEST_F(Multires, PlaneExitanceWithinThreePercent) {
 // (fewer millimetres per unit) gets more splatting levels, and a range too
 // short for the irradiance buffer gets no irradiance hierarchy at all.
 TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
-  ASSERT_NO_FATAL_FAILURE(setSlabUnderSun());
   int previous = 0;
   for (float mmPerUnit : {2000.0f, 200.0f, 20.0f}) {
-    SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
-    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+    ASSERT_NO_FATAL_FAILURE(setSlabUnderSun(testing::marbleMaterial(mmPerUnit)));
     SsStats stats = renderWith(SS_METHOD_FULL, 128, 0.0f, 0);
     std::printf("%.0f mm per unit: %d irradiance, %d splatting levels\n", mmPerUnit, stats.levels, stats.splat_levels);
     EXPECT_GE(stats.splat_levels, previous) << mmPerUnit;
@@ -256,7 +251,6 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
 // or a smaller target gets a finer buffer, up to the largest rung; the stats say what was
 // chosen. A fixed resolution is used as set, and its texels per R_P are reported too.
 TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
-  ASSERT_NO_FATAL_FAILURE(setSlabUnderSun());
   auto renderAuto = [&](float targetError) {
     SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
     settings.target_error = targetError;
@@ -268,8 +262,7 @@ TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
   };
   int previous = 0, first = 0;
   for (float mmPerUnit : {200.0f, 2000.0f, 20000.0f}) {
-    SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
-    ASSERT_EQ(ssSetMaterial(context, 0, &marble), SS_OK);
+    ASSERT_NO_FATAL_FAILURE(setSlabUnderSun(testing::marbleMaterial(mmPerUnit)));
     SsStats stats = renderAuto(0.0f);
     std::printf("%.0f mm per unit: %d², %.2f texels per R_P\n", mmPerUnit, stats.irradiance_resolution,
                 stats.texels_per_range);

@@ -114,7 +114,7 @@ def grazing(degrees):
     return build
 
 
-def step(size):
+def step(size, mm_per_unit=8.0):
     """One marble object: a slab and, rising from its middle, a block 0.6 units high, lit by a sun at
     40 degrees: the block's top and the slab beside it are neighbours in the light's view, far
     apart in depth. Texels of a coarse level that straddle the edge average the two surfaces."""
@@ -126,7 +126,7 @@ def step(size):
                 (-0.5, -0.5, 0.05), (0.5, -0.5, 0.05), (0.5, 0.5, 0.05), (-0.5, 0.5, 0.05)]
     faces = [(0, 1, 2, 3), (4, 5, 6, 7), (8, 9, 5, 4), (9, 10, 6, 5), (10, 11, 7, 6), (11, 8, 4, 7)]
     mesh.from_pydata(vertices, [], faces)
-    mesh.materials.append(translucent("Marble", "MARBLE", 8.0))
+    mesh.materials.append(translucent("Marble", "MARBLE", mm_per_unit))
     obj = bpy.data.objects.new("Step", mesh)
     scene.collection.objects.link(obj)
     helpers.top_down_camera(scene, ortho_scale=2.0)

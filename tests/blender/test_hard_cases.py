@@ -56,21 +56,8 @@ class HardCases(unittest.TestCase):
 
     def test_depth_discontinuity(self):
         # One object: a slab and, above part of it, a raised block whose top is seen from the
-        # camera next to the slab far below, lit by a sun at 40 degrees.
-        import bpy
-        scene = helpers.empty_scene(64, 64)
-        mesh = bpy.data.meshes.new("Step")
-        low, high = 0.0, 0.6
-        vertices = [(-2, -2, low), (2, -2, low), (2, 2, low), (-2, 2, low),
-                    (-0.5, -0.5, high), (0.5, -0.5, high), (0.5, 0.5, high), (-0.5, 0.5, high),
-                    (-0.5, -0.5, 0.05), (0.5, -0.5, 0.05), (0.5, 0.5, 0.05), (-0.5, 0.5, 0.05)]
-        faces = [(0, 1, 2, 3), (4, 5, 6, 7), (8, 9, 5, 4), (9, 10, 6, 5), (10, 11, 7, 6), (11, 8, 4, 7)]
-        mesh.from_pydata(vertices, [], faces)
-        mesh.materials.append(marble(25.0))
-        step = bpy.data.objects.new("Step", mesh)
-        scene.collection.objects.link(step)
-        helpers.top_down_camera(scene, ortho_scale=2.0)
-        helpers.add_light(scene, "SUN", rotation=(math.radians(40), 0, math.radians(30)), energy=5.0, angle=0.0)
+        # camera next to the slab far below, lit by a sun at 40 degrees (stability_cases.step).
+        scene = stability_cases.step(64, mm_per_unit=25.0)
         self.check_no_holes(scene, "depth_discontinuity")
 
 
