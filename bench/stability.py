@@ -5,7 +5,10 @@ real-time method against REFERENCE on each; a picture per set-up into docs/image
 the table into docs/STABILITY.md (its "cases" section).
 
     BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
-        --python bench/stability.py -- [--size 96] [--samples 100000] [--cases grazing depth ...] [--output docs]
+        --python bench/stability.py -- [--size 64] [--samples 50000] [--cases grazing depth ...] \
+        [--flicker] [--flicker-percentage 8] [--flicker-samples 10000] [--output docs]
+
+The defaults are docs/STABILITY.md's (about 25 minutes on 2 cores with --flicker).
 """
 import argparse
 import datetime
@@ -14,6 +17,7 @@ import os
 import sys
 
 import bpy
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -22,22 +26,23 @@ sys.path.append(HERE)  # after tests/blender: bench/accuracy.py is another modul
 import helpers  # noqa: E402
 
 subsplat = helpers.enable_addon()
+import accuracy  # noqa: E402
 import sections  # noqa: E402
 import stability_cases  # noqa: E402
 
 
 def arguments():
     parser = argparse.ArgumentParser(prog="bench/stability.py")
-    parser.add_argument("--size", type=int, default=96, help="image width and height in pixels")
-    parser.add_argument("--samples", type=int, default=100000, help="REFERENCE surface samples")
+    parser.add_argument("--size", type=int, default=64, help="image width and height in pixels")
+    parser.add_argument("--samples", type=int, default=50000, help="REFERENCE surface samples")
     parser.add_argument("--cases", nargs="*", default=[c.name for c in stability_cases.CASES],
                         help="the cases to measure (none: only --flicker)")
     parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where STABILITY.md and images go")
     parser.add_argument("--flicker", action="store_true",
                         help="also the flicker of every method under a moving light, on skin_suzanne and on the "
                              "coarse-sample sphere (60 frames each)")
-    parser.add_argument("--flicker-percentage", type=int, default=16, help="skin_suzanne's resolution percentage")
-    parser.add_argument("--flicker-samples", type=int, default=20000, help="REFERENCE samples of the flicker frames")
+    parser.add_argument("--flicker-percentage", type=int, default=8, help="skin_suzanne's resolution percentage")
+    parser.add_argument("--flicker-samples", type=int, default=10000, help="REFERENCE samples of the flicker frames")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     return parser.parse_args(argv)
 
@@ -61,8 +66,6 @@ def table(case, setups):
 
 def flicker(args, images):
     """The flicker section: every method's frame-to-frame change over 60 frames of a turning light."""
-    import accuracy
-    import numpy as np
     methods = ("REFERENCE",) + stability_cases.METHODS
     scenes = [("skin_suzanne", f"skin Suzanne at {args.flicker_percentage} % of 800 x 600, 3 levels",
                lambda: _suzanne(args.flicker_percentage)),
@@ -94,7 +97,6 @@ def flicker(args, images):
 
 
 def _suzanne(percentage):
-    import accuracy
     scene = accuracy.open_example("skin_suzanne", percentage)
     scene.render.engine = "SUBSPLAT"
     stability_cases.apply(scene, {"levels": 3})
@@ -128,7 +130,6 @@ def main():
     if results:
         with open(os.path.join(images, "cases.json"), "w") as f:
             json.dump(results, f, indent=1)
-    if results:
         sections.replace(os.path.join(args.output, "STABILITY.md"), "cases", lines)
     if args.flicker:
         sections.replace(os.path.join(args.output, "STABILITY.md"), "flicker", flicker(args, images))
