@@ -1,7 +1,7 @@
 """Stability (docs/STABILITY.md): where the methods stay put and where they do not.
 
 - Flicker under a slowly moving light, the limitation the paper admits: a marble sphere whose range
-  is long enough for FULL's adaptive selection to choose coarse samples over most of it
+  is long enough for FULL's adaptive selection to choose coarse samples for about 40 % of it
   (stability_cases.coarse_sphere), its light turning 0.5 degrees a frame about the vertical for 60
   frames. A method's flicker is its mean frame-to-frame change over the translucent pixels,
   relative to REFERENCE's mean radiance; its excess is that minus REFERENCE's own (the change the
