@@ -330,6 +330,7 @@ StateGuard::StateGuard() {
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &textures_[i].texture2D);
     glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &textures_[i].texture2DArray);
     glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &textures_[i].textureBuffer);
+    glGetIntegerv(GL_SAMPLER_BINDING, &textures_[i].sampler);
   }
   // Left on a unit of the table, so that the binds of uploads and read-backs (on the active
   // unit) land where the destructor restores them.
@@ -399,6 +400,7 @@ StateGuard::~StateGuard() {
     glBindTexture(GL_TEXTURE_2D, GLuint(u.texture2D));
     glBindTexture(GL_TEXTURE_2D_ARRAY, GLuint(u.texture2DArray));
     glBindTexture(GL_TEXTURE_BUFFER, GLuint(u.textureBuffer));
+    glBindSampler(GLuint(kTextureUnits[i]), GLuint(u.sampler));
   }
   glActiveTexture(GLenum(activeTexture_));
   glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);

@@ -149,7 +149,7 @@ class StateGuard {
   GLint arrayBuffer_ = 0, activeTexture_ = 0, viewport_[4] = {}, scissorBox_[4] = {};
   // The units and bindings of the binding table (gl/bindings.h): what the passes bind.
   struct TextureUnit {
-    GLint texture2D = 0, texture2DArray = 0, textureBuffer = 0;
+    GLint texture2D = 0, texture2DArray = 0, textureBuffer = 0, sampler = 0;
   } textures_[std::size(kTextureUnits)];
   GLint uniformBuffer_ = 0;
   GLint shaderStorageBuffer_ = 0;

@@ -15,6 +15,7 @@ GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(pr
 void bindTexture(int unit, GLenum target, GLuint texture) {
   glActiveTexture(GLenum(GL_TEXTURE0 + unit));
   glBindTexture(target, texture);
+  glBindSampler(GLuint(unit), 0);  // the texture's own filtering and wrapping, not the host's sampler
 }
 
 void setLightUniforms(GLuint program, const LightView& view) {
