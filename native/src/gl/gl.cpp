@@ -214,8 +214,11 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
   if (depthTexture) glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthTexture, 0);
   glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
   GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE)
-    fail(SS_GL_ERROR, "framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%04x", unsigned(status));
+    fail(SS_GL_ERROR, "framebuffer incomplete (status " + std::string(hex) + ")");
+  }
   return framebuffer;
 }
 
