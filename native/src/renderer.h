@@ -63,6 +63,7 @@ class Renderer {
   SplattingBuffer splatting_;
   Splatting splats_;
   Shading shading_;
+  StageProfiler profiler_;  // its queries are reused by every frame of this context
   gl::Buffer materialBuffer_;
   gl::Texture kernelTable_, minimalRadius_;
   int kernelLayers_ = 1;
