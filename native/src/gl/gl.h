@@ -136,6 +136,8 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
                     const std::string& fragment);
 
 Program makeComputeProgram(const std::string& compute);
+// The same for a compute shader given as source (the tests that run common.glsl's functions).
+Program makeComputeProgramFromSource(const std::string& name, const std::string& source);
 
 // Throws SS_GL_ERROR naming the stage when glGetError reports anything.
 void checkErrors(const char* stage);
