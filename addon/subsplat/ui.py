@@ -2,6 +2,7 @@
 import bpy
 
 from . import export, native
+from .export import materials
 
 
 class SubsplatPanel:
@@ -88,8 +89,8 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
             return
         warnings = []
         try:
-            info = native.profile_info(export.material_desc(context.material, warnings))
-            profiles = export.source_profiles(context.material)
+            info = native.profile_info(materials.material_data(context.material, warnings))
+            profiles = materials.source_profiles(context.material)
             profiles = profiles.info() if profiles is not None else None
         except (native.SubsplatError, export.ExportError) as error:
             for line in _wrap(str(error)):
