@@ -1,5 +1,6 @@
 """The add-on's own bookkeeping, apart from images: the binding refuses structs laid out otherwise
-than the library's, the profile-set cache stays bounded, a frame describes each material once."""
+than the library's, the profile-set cache stays bounded, a frame describes each material once, a
+viewport keeps a mesh it failed to send."""
 import ctypes
 import gc
 import os
@@ -109,6 +110,37 @@ class OneDescriptionPerFrame(unittest.TestCase):
         finally:
             counter.restore()
         self.assertEqual(counter.calls, 1, "the Principled BSDF read once per frame")
+
+
+class FailingContext:
+    """A native context whose first mesh upload fails as beyond the memory budget."""
+
+    def __init__(self):
+        self.meshes, self.failures = {}, 1
+
+    def set_mesh(self, object_id, mesh):
+        if self.failures:
+            self.failures -= 1
+            raise native.SubsplatError("ssSetMesh: mesh needs 10 MiB beyond the memory budget")
+        self.meshes[object_id] = mesh
+
+    def set_material(self, material_id, material):
+        pass
+
+    def remove_mesh(self, object_id):
+        self.meshes.pop(object_id, None)
+
+
+class ViewportUploads(unittest.TestCase):
+    def test_a_mesh_that_failed_to_upload_is_sent_again(self):
+        session = subsplat.engine.viewport.ViewportSession()
+        session.context = FailingContext()
+        session.pending_meshes = {0: "mesh 0", 1: "mesh 1"}
+        with self.assertRaises(native.SubsplatError):
+            session._send_pending()
+        session._send_pending()
+        self.assertEqual(session.context.meshes, {0: "mesh 0", 1: "mesh 1"})
+        self.assertEqual(session.pending_meshes, {})
 
 
 class EnumsByName(unittest.TestCase):

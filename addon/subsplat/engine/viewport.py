@@ -174,15 +174,17 @@ class ViewportSession:
         if self.context is None:
             native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
-        for material_id, material in self.pending_materials.items():
+        # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
+        # the memory budget) is sent again by the next draw.
+        for material_id, material in list(self.pending_materials.items()):
             self.context.set_material(material_id, material)
-        self.pending_materials.clear()
-        for object_id in self.pending_removals:
+            del self.pending_materials[material_id]
+        for object_id in list(self.pending_removals):
             self.context.remove_mesh(object_id)
-        self.pending_removals.clear()
-        while self.pending_meshes:
-            object_id, pending = self.pending_meshes.popitem()
+            self.pending_removals.discard(object_id)
+        for object_id, pending in reversed(list(self.pending_meshes.items())):
             self.context.set_mesh(object_id, pending)
+            del self.pending_meshes[object_id]
             self.counters.mesh_uploads += 1
         if self.pending_lights is not None:
             self.context.set_lights(self.pending_lights)
