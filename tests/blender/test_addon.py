@@ -1,10 +1,12 @@
 """The add-on's own bookkeeping, apart from images: the binding refuses structs laid out otherwise
 than the library's, the profile-set cache stays bounded, a frame describes each material once, a
-viewport keeps a mesh it failed to send."""
+viewport keeps a mesh it failed to send, and the material panel asks the library only when the
+material changed."""
 import ctypes
 import gc
 import os
 import sys
+import types
 import unittest
 
 import bpy
@@ -141,6 +143,64 @@ class ViewportUploads(unittest.TestCase):
         session._send_pending()
         self.assertEqual(session.context.meshes, {0: "mesh 0", 1: "mesh 1"})
         self.assertEqual(session.pending_meshes, {})
+
+
+class RecordingLayout:
+    """Enough of a UILayout for a panel's draw(): records the labels."""
+
+    def __init__(self, labels):
+        self.__dict__["labels"] = labels
+
+    def label(self, text="", **_kwargs):
+        self.labels.append(text)
+
+    def __getattr__(self, _name):
+        return lambda *args, **kwargs: RecordingLayout(self.labels)
+
+    def __setattr__(self, name, value):
+        pass
+
+
+class MaterialPanel(unittest.TestCase):
+    def draw(self, material):
+        labels = []
+        panel = types.SimpleNamespace(layout=RecordingLayout(labels))
+        subsplat.ui.SUBSPLAT_PT_material.draw(panel, types.SimpleNamespace(material=material))
+        return labels
+
+    def test_redraws_ask_the_library_only_when_the_material_changed(self):
+        scene = helpers.empty_scene(8, 8)
+        material = principled_material("Panel", 0.02)
+        helpers.plane(scene, 1.0, material)
+        bpy.context.view_layer.update()
+        info = Counting(native, "profile_info")
+        reads = Counting(subsplat.principled, "read")
+        try:
+            first = self.draw(material)
+            for _ in range(5):
+                self.assertEqual(self.draw(material), first)
+            self.assertEqual((info.calls, reads.calls), (1, 1), "five redraws of an unchanged material")
+            material.subsplat.eta = 1.4
+            self.draw(material)
+            self.assertEqual(info.calls, 2, "a SubSplat setting changed")
+            bsdf = material.node_tree.nodes["Principled BSDF"]
+            bsdf.inputs[subsplat.principled.RADIUS_INPUT].default_value = (0.03, 0.02, 0.01)
+            bpy.context.view_layer.update()
+            changed = self.draw(material)
+            self.assertEqual(info.calls, 3, "a node input changed")
+            self.assertNotEqual(changed, first)
+            image = bpy.data.images.new("Colour", 4, 4)
+            texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+            texture.image = image
+            material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs[subsplat.principled.COLOR_INPUT])
+            bpy.context.view_layer.update()
+            self.draw(material)
+            self.assertEqual(info.calls, 4, "an image linked")
+            self.draw(material)
+            self.assertEqual(info.calls, 4, "nothing changed since")
+        finally:
+            info.restore()
+            reads.restore()
 
 
 class EnumsByName(unittest.TestCase):
