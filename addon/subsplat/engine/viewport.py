@@ -79,7 +79,7 @@ class ViewportSession:
 
     def _sync(self, depsgraph, full):
         geometry, moved, materials = set(), set(), set()
-        lights = full
+        lights_changed = full
         if full:
             self.counters.full_syncs += 1
         else:
@@ -89,14 +89,14 @@ class ViewportSession:
                     materials.add(item.name_full)
                 elif isinstance(item, bpy.types.Object):
                     if item.type == "LIGHT":
-                        lights = True
+                        lights_changed = True
                     else:
                         if update.is_updated_geometry:
                             geometry.add(item.name_full)
                         if update.is_updated_transform:
                             moved.add(item.name_full)
                 elif isinstance(item, (bpy.types.Light, bpy.types.Collection)):
-                    lights = True
+                    lights_changed = True
                 elif isinstance(item, bpy.types.Image):
                     # Principled and artist materials read images: describe them all again.
                     materials.update(self.frame.materials)
@@ -137,7 +137,7 @@ class ViewportSession:
                 self._upload(entry)
         for key in set(self.objects) - seen:
             self._remove(key)
-        if lights:
+        if lights_changed:
             self.pending_lights = light_descs
             self.counters.light_exports += 1
 
