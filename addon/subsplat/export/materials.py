@@ -14,8 +14,9 @@ from .data import ExportError, Material
 # used last: identity -> (inputs key, ProfileSet). The identity is the file for a SubEdit file (the
 # materials that use one file share its set) and the material for the others; a set is made again
 # only when its inputs key changed. Sets beyond MAX_PROFILE_SETS, least recently used first, are
-# released (a frame that uses one keeps it alive through its Material).
-MAX_PROFILE_SETS = 16
+# released (a frame that uses one keeps it alive through its Material). A scene with more
+# heterogeneous materials than that makes some sets again each frame: same images, slower export.
+MAX_PROFILE_SETS = 64
 _profile_sets = collections.OrderedDict()
 
 
