@@ -1,7 +1,7 @@
 """Are the evaluated positions and corner normals of a deformed mesh the same in every process?
 Runs N Blender processes that each read finger_pose.blend's Finger at one frame and print digests
 of its positions, of Blender's corner normals (calc_normals_split) and of the add-on's
-(export.mesh_arrays, what the library gets), then counts the distinct ones (docs/ANIMATION.md).
+(export.mesh.mesh_arrays, what the library gets), then counts the distinct ones (docs/ANIMATION.md).
 
     python3 bench/normals_repeat.py [--runs 10] [--frame 12] [--blender blender]
 
@@ -15,12 +15,12 @@ import subprocess
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PROBE = """
 import bpy, hashlib
-from subsplat import export
+from subsplat.export import mesh as export_mesh
 scene = bpy.context.scene
 scene.frame_set({frame})
 finger = bpy.data.objects["Finger"].evaluated_get(bpy.context.evaluated_depsgraph_get())
 mesh = finger.to_mesh()
-positions, normals, triangles, slots = export.mesh_arrays(mesh)
+positions, normals, triangles, slots = export_mesh.mesh_arrays(mesh)
 mesh.calc_normals_split()
 blender = [0.0] * (len(mesh.loops) * 3)
 mesh.loops.foreach_get("normal", blender)

@@ -11,7 +11,8 @@ import bpy
 def object_ranges(scene):
     """{object name: (shortest, longest) R_P over its bounding radius} for translucent objects."""
     from mathutils import Vector
-    from subsplat import export, native
+    from subsplat import native
+    from subsplat.export import materials
     result = {}
     for obj in scene.objects:
         if obj.type != "MESH":
@@ -23,8 +24,8 @@ def object_ranges(scene):
             material = slot.material
             if material is None or not material.subsplat.enabled:
                 continue
-            ranges = list(native.profile_info(export.material_desc(material)).effective_range)
-            profiles = export.source_profiles(material)
+            ranges = list(native.profile_info(materials.material_data(material)).effective_range)
+            profiles = materials.source_profiles(material)
             if profiles is not None:  # heterogeneous: every profile of the palette
                 ranges += [r / material.subsplat.mm_per_unit for r in profiles.info()["effective_range_mm"]]
             lo, hi = result.get(obj.name, (float("inf"), 0.0))

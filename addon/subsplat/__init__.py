@@ -1,4 +1,9 @@
-"""SubSplat: real-time translucent materials by multiresolution splatting (Chen et al. 2012)."""
+"""SubSplat: real-time translucent materials by multiresolution splatting (Chen et al. 2012).
+
+Layout (as BlendLuxCore's): engine/ (the RenderEngine: final, preview, viewport), export/ (Blender
+data to plain data), native.py (plain data to the C library), properties.py, preferences.py, ui.py,
+operators.py; diagnostics.py (test hooks, last_* figures) and version.py (Blender version switches).
+"""
 
 bl_info = {
     "name": "SubSplat",
@@ -12,17 +17,22 @@ bl_info = {
 
 if "bpy" in locals():
     import importlib
-    for _module in (native, presets, properties, principled, artist, export, viewport, engine, operators, ui):  # noqa: F821
+    for _module in (version, diagnostics, native, presets, properties, preferences, principled,  # noqa: F821
+                    artist, export.data, export.camera, export.lights, export.materials,  # noqa: F821
+                    export.mesh, export.settings, export, engine.viewport, engine.final,  # noqa: F821
+                    engine.preview, engine, operators, ui):  # noqa: F821
         importlib.reload(_module)
 
 import bpy  # noqa: E402,F401
 
-from . import native, presets, properties, principled, artist, export, viewport, engine, operators, ui  # noqa: E402,F401
-from .engine import last_render_error, last_render_passes, last_render_stats, last_viewport  # noqa: E402,F401
+from . import (version, diagnostics, native, presets, properties, preferences, principled, artist,  # noqa: E402,F401
+               export, engine, operators, ui)
+from .diagnostics import last_render_error, last_render_passes, last_render_stats, last_viewport  # noqa: E402,F401
 
 
 def register():
     properties.register()
+    preferences.register()
     engine.register()
     operators.register()
     ui.register()
@@ -32,4 +42,5 @@ def unregister():
     ui.unregister()
     operators.unregister()
     engine.unregister()
+    preferences.unregister()
     properties.unregister()

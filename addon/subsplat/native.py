@@ -1,7 +1,9 @@
-"""ctypes binding of libsubsplat (native/include/subsplat/subsplat.h), and nothing else.
+"""ctypes binding of libsubsplat (native/include/subsplat/subsplat.h), and nothing else: the one
+module that turns the add-on's plain data (export.data) into the library's structs.
 
-Every call checks the status and raises SubsplatError with the library's
-message, so the engine can show it to the user.
+Every call checks the status and raises SubsplatError with the library's message, so the engine
+can show it to the user. At load, every Structure here is checked against the library's own
+sizeof and offsetof (ssGetStructLayout).
 """
 import ctypes
 import os
@@ -9,13 +11,21 @@ import threading
 
 import numpy as np
 
-API_VERSION = 9
+API_VERSION = 10  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
-METHODS = {"BRUTE": 0, "MULTIRES": 1, "ADAPTIVE": 2, "FULL": 3, "REFERENCE": 4}
-PASS_EXITANCE, PASS_SELECTION, PASS_LEVEL_EXITANCE = 0, 1, 2
-CANCELLED = 7
-LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN = 0, 1, 2
-MATERIAL_OPAQUE, MATERIAL_DIPOLE, MATERIAL_SUBEDIT = 0, 1, 2
+
+# The header's enums (subsplat.h), by name.
+SS_CANCELLED = 7
+SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL, SS_METHOD_REFERENCE = 0, 1, 2, 3, 4
+SS_LIGHT_POINT, SS_LIGHT_SPOT, SS_LIGHT_SUN = 0, 1, 2
+SS_MATERIAL_OPAQUE, SS_MATERIAL_DIPOLE, SS_MATERIAL_SUBEDIT = 0, 1, 2
+SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
+
+# The plain data's names (export.data) for them.
+METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE": SS_METHOD_ADAPTIVE,
+           "FULL": SS_METHOD_FULL, "REFERENCE": SS_METHOD_REFERENCE}
+LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_SUN}
+MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "SUBEDIT": SS_MATERIAL_SUBEDIT}
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
            5: "limit exceeded", 6: "internal error", 7: "cancelled"}
@@ -114,6 +124,11 @@ class ProfileInfo(ctypes.Structure):
     _fields_ = [("total_reflectance", Float3), ("effective_range", Float3), ("support_radius", ctypes.c_float)]
 
 
+# Each Structure and its struct in subsplat.h, checked at load (check_layout).
+LAYOUTS = {MeshDesc: "SsMeshDesc", ResourceCounts: "SsResourceCounts", MaterialDesc: "SsMaterialDesc",
+           ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
+           CameraDesc: "SsCameraDesc", Settings: "SsSettings", Stats: "SsStats", ProfileInfo: "SsProfileInfo"}
+
 _libs = None
 
 
@@ -139,8 +154,37 @@ def library():
             raise SubsplatError(f"cannot load {path}: {error} (on Debian: apt install libepoxy0 libembree3-3 libopenimageio2.4)")
         if libs[0].ssGetApiVersion() != API_VERSION:
             raise SubsplatError(f"native library API {libs[0].ssGetApiVersion()} does not match the add-on's {API_VERSION}")
+        for structure, name in LAYOUTS.items():
+            check_layout(libs[0], structure, name)
         _libs = libs
     return _libs[0] if threading.current_thread() is threading.main_thread() else _libs[1]
+
+
+def check_layout(lib, structure, name):
+    """Raises SubsplatError unless a Structure has the size of the library's struct `name` and
+    each of its fields the library's offset and size (a header changed without the binding)."""
+    offset, size = ctypes.c_uint32(), ctypes.c_uint32()
+
+    def layout(field):
+        status = lib.ssGetStructLayout(name.encode(), field and field.encode(), ctypes.byref(offset),
+                                       ctypes.byref(size))
+        if status != 0:
+            raise SubsplatError(f"native library: {name}{'.' + field if field else ''}: "
+                                f"{lib.ssGetLastError().decode('utf-8', 'replace')} (the add-on's "
+                                f"{structure.__name__} does not match subsplat.h)", status)
+        return offset.value, size.value
+
+    for field, _type in structure._fields_:
+        expected = layout(field)
+        actual = (getattr(structure, field).offset, getattr(structure, field).size)
+        if actual != expected:
+            raise SubsplatError(f"native library: {name}.{field} is at offset {expected[0]} with size {expected[1]} "
+                                f"in the library but at offset {actual[0]} with size {actual[1]} in the add-on's "
+                                f"{structure.__name__} (rebuild the add-on and the library together)")
+    expected = layout(None)[1]
+    if ctypes.sizeof(structure) != expected:
+        raise SubsplatError(f"native library: {name} has {expected} bytes in the library but the add-on's "
+                            f"{structure.__name__} has {ctypes.sizeof(structure)} (a field is missing)")
 
 
 def _declare(lib):
@@ -149,12 +193,13 @@ def _declare(lib):
     lib.ssGetLastError.restype = ctypes.c_char_p
     handle = ctypes.c_void_p
     signatures = {
+        "ssGetStructLayout": [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(ctypes.c_uint32),
+                              ctypes.POINTER(ctypes.c_uint32)],
         "ssNewContext": [ctypes.POINTER(handle)],
         "ssReleaseContext": [handle],
         "ssSetMaterial": [handle, ctypes.c_uint32, ctypes.POINTER(MaterialDesc)],
         "ssSetMesh": [handle, ctypes.c_uint32, ctypes.POINTER(MeshDesc)],
         "ssRemoveMesh": [handle, ctypes.c_uint32],
-        "ssClearScene": [handle],
         "ssSetLights": [handle, ctypes.POINTER(LightDesc), ctypes.c_uint32],
         "ssSetCamera": [handle, ctypes.POINTER(CameraDesc)],
         "ssSetSettings": [handle, ctypes.POINTER(Settings)],
@@ -163,9 +208,7 @@ def _declare(lib):
         "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
         "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
-        "ssGetSettings": [handle, ctypes.POINTER(Settings)],
         "ssSaveScene": [handle, ctypes.c_char_p],
-        "ssLoadScene": [handle, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int32), ctypes.POINTER(ctypes.c_int32)],
         "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
         "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
                                        ctypes.POINTER(ctypes.c_float), ctypes.c_float, ctypes.c_float,
@@ -189,7 +232,7 @@ def _declare(lib):
 def _check(status):
     if status != 0:
         message = library().ssGetLastError().decode("utf-8", "replace")
-        error = Cancelled if status == CANCELLED else SubsplatError
+        error = Cancelled if status == SS_CANCELLED else SubsplatError
         raise error(message or _STATUS.get(status, f"status {status}"), status)
 
 
@@ -235,10 +278,64 @@ def changed_gl_state(before, after):
 
 
 def profile_info(material):
-    """Rd_total, R_P and support radius of a MaterialDesc; no GL needed."""
+    """Rd_total, R_P and support radius of a translucent Material (export.data); no GL needed."""
     info = ProfileInfo()
-    _check(library().ssGetProfileInfo(ctypes.byref(material), ctypes.byref(info)))
+    _check(library().ssGetProfileInfo(ctypes.byref(_material_desc(material)), ctypes.byref(info)))
     return info
+
+
+# -- plain data to structs --------------------------------------------------------------------
+
+def _material_desc(material):
+    desc = MaterialDesc()
+    desc.kind = MATERIAL_KINDS[material.kind]
+    desc.base_color = Float3(*material.base_color)
+    desc.sigma_a = Float3(*material.sigma_a)
+    desc.sigma_s_prime = Float3(*material.sigma_s_prime)
+    desc.eta = material.eta
+    desc.mm_per_unit = material.mm_per_unit
+    desc.roughness = material.roughness
+    desc.specular = material.specular
+    if material.profiles is not None:
+        desc.profiles = material.profiles.handle
+    return desc
+
+
+def _light_desc(light):
+    desc = LightDesc()
+    desc.type = LIGHT_TYPES[light.type]
+    desc.color = Float3(*light.color)
+    desc.strength = light.strength
+    desc.position = Float3(*light.position)
+    desc.direction = Float3(*light.direction)
+    desc.spot_size = light.spot_size
+    desc.spot_blend = light.spot_blend
+    return desc
+
+
+def _camera_desc(camera):
+    desc = CameraDesc()
+    desc.world_to_view = Float16(*camera.world_to_view)
+    desc.view_to_clip = Float16(*camera.view_to_clip)
+    desc.orthographic = 1 if camera.orthographic else 0
+    return desc
+
+
+def _settings(settings):
+    result = Settings()
+    result.method = METHODS[settings.method]
+    result.irradiance_resolution = settings.irradiance_resolution
+    result.background = Float4(*settings.background)
+    result.reference_samples = settings.reference_samples
+    result.levels = settings.levels
+    result.z0_factor = settings.z0_factor
+    result.alpha = settings.alpha
+    result.epsilon = settings.epsilon
+    result.lambda_z = settings.lambda_z
+    result.lambda_m = settings.lambda_m
+    result.debug_passes = 1 if settings.debug_passes else 0
+    result.target_error = settings.target_error
+    return result
 
 
 class ProfileSet:
@@ -332,10 +429,18 @@ class Context:
             pass
 
     def set_material(self, material_id, material):
-        _check(library().ssSetMaterial(self._handle, material_id, ctypes.byref(material)))
+        """material: export.data.Material."""
+        _check(library().ssSetMaterial(self._handle, material_id, ctypes.byref(_material_desc(material))))
 
-    def set_mesh(self, object_id, positions, normals, indices, triangle_materials, object_to_world, uvs=None):
-        """positions, normals: float32 (n, 3); indices: uint32 (t, 3); triangle_materials: uint32 (t,)."""
+    def set_mesh(self, object_id, mesh):
+        """mesh: export.data.Mesh; errors name its object."""
+        try:
+            self._set_mesh(object_id, mesh.positions, mesh.normals, mesh.triangles, mesh.triangle_materials,
+                           mesh.object_to_world, mesh.uvs)
+        except SubsplatError as error:
+            raise SubsplatError(f"object '{mesh.name}': {error}", error.status) from error
+
+    def _set_mesh(self, object_id, positions, normals, indices, triangle_materials, object_to_world, uvs):
         positions = np.ascontiguousarray(positions, dtype=np.float32)
         normals = np.ascontiguousarray(normals, dtype=np.float32)
         indices = np.ascontiguousarray(indices, dtype=np.uint32)
@@ -356,34 +461,22 @@ class Context:
     def remove_mesh(self, object_id):
         _check(library().ssRemoveMesh(self._handle, object_id))
 
-    def clear_scene(self):
-        _check(library().ssClearScene(self._handle))
-
     def set_lights(self, lights):
-        array = (LightDesc * max(len(lights), 1))(*lights)
+        """lights: export.data.Light list."""
+        array = (LightDesc * max(len(lights), 1))(*[_light_desc(light) for light in lights])
         _check(library().ssSetLights(self._handle, array, len(lights)))
 
     def set_camera(self, camera):
-        _check(library().ssSetCamera(self._handle, ctypes.byref(camera)))
+        """camera: export.data.Camera."""
+        _check(library().ssSetCamera(self._handle, ctypes.byref(_camera_desc(camera))))
 
     def set_settings(self, settings):
-        _check(library().ssSetSettings(self._handle, ctypes.byref(settings)))
-
-    def settings(self):
-        """The settings in effect, defaults filled in."""
-        settings = Settings()
-        _check(library().ssGetSettings(self._handle, ctypes.byref(settings)))
-        return settings
+        """settings: export.data.Settings."""
+        _check(library().ssSetSettings(self._handle, ctypes.byref(_settings(settings))))
 
     def save_scene(self, path):
         """Writes what this context was given to a scene file (docs/SCENE_FILE.md)."""
         _check(library().ssSaveScene(self._handle, os.fsencode(path)))
-
-    def load_scene(self, path):
-        """Replaces the scene and settings with a scene file's; returns its frame size (0, 0 if none)."""
-        width, height = ctypes.c_int32(), ctypes.c_int32()
-        _check(library().ssLoadScene(self._handle, os.fsencode(path), ctypes.byref(width), ctypes.byref(height)))
-        return width.value, height.value
 
     def render(self, width, height, progress=None):
         """Linear RGBA float32 pixels, shape (height, width, 4), bottom row first.
@@ -411,10 +504,10 @@ class Context:
 
     def exitance_pass(self, width, height):
         """B(x_o) of the last render in rgb, 1 in alpha on translucent pixels; (height, width, 4)."""
-        return self.render_pass(PASS_EXITANCE, width, height)
+        return self.render_pass(SS_PASS_EXITANCE, width, height)
 
     def render_pass(self, kind, width, height):
-        """A pass of the last render (PASS_*; PASS_LEVEL_EXITANCE + k), (height, width, 4)."""
+        """A pass of the last render (SS_PASS_*; SS_PASS_LEVEL_EXITANCE + k), (height, width, 4)."""
         pixels = np.empty((height, width, 4), dtype=np.float32)
         _check(library().ssGetPass(self._handle, kind, width, height, _floats(pixels)))
         return pixels

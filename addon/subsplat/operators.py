@@ -3,6 +3,7 @@ import bpy
 from bpy_extras.io_utils import ExportHelper
 
 from . import export, native
+from .export import materials
 
 
 class SUBSPLAT_OT_bake_subedit(bpy.types.Operator, ExportHelper):
@@ -29,7 +30,7 @@ class SUBSPLAT_OT_bake_subedit(bpy.types.Operator, ExportHelper):
         material = context.material
         path = bpy.path.abspath(self.filepath)
         try:
-            profiles = export.material_profiles(material)
+            profiles = materials.material_profiles(material)
             profiles.save(path)
             info = profiles.info()
         except (export.ExportError, native.SubsplatError) as error:

@@ -13,13 +13,13 @@ any other link is not read: the socket's own value is used and a warning says so
 """
 import hashlib
 
-import bpy
 import numpy as np
 
-BLENDER_4 = bpy.app.version >= (4, 0, 0)
-COLOR_INPUT = "Base Color" if BLENDER_4 else "Subsurface Color"
-RADIUS_INPUT = "Subsurface Radius"
-SCALE_INPUT = "Subsurface Scale" if BLENDER_4 else "Subsurface"
+from . import version
+
+COLOR_INPUT = version.PRINCIPLED_SUBSURFACE_COLOR
+RADIUS_INPUT = version.PRINCIPLED_SUBSURFACE_RADIUS
+SCALE_INPUT = version.PRINCIPLED_SUBSURFACE_SCALE
 MAX_SIDE = 512          # texels per side read from an image (larger images are sampled down)
 MAX_REDUCED_ALBEDO = 0.99999  # albedo 1 would mean no absorption, which the dipole cannot have
 

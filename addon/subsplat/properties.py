@@ -1,6 +1,4 @@
 """Settings on Scene (scene.subsplat) and Material (material.subsplat)."""
-import os
-
 import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty,
                        StringProperty)
@@ -24,7 +22,7 @@ METHOD_ITEMS = [
 def _quality_edited(settings, _context):
     # Setting a quality parameter by hand (in the panel or from Python) makes the quality manual.
     if settings.quality != "MANUAL":
-        settings["quality"] = 1  # index of MANUAL
+        settings.quality = "MANUAL"
 
 
 QUALITY_ITEMS = [
@@ -111,7 +109,7 @@ def _apply_preset(settings, _context):
 def _coefficients_edited(settings, _context):
     # Typing a coefficient by hand makes the material custom.
     if not settings.get("_applying_preset", False) and settings.preset != "CUSTOM":
-        settings["preset"] = len(presets.MEASURED_MEDIA)  # index of CUSTOM
+        settings.preset = "CUSTOM"
 
 
 PRESET_ITEMS = [(key, label, f"Measured {label} (Jensen et al. 2001)")
@@ -173,31 +171,7 @@ class SubsplatMaterialSettings(bpy.types.PropertyGroup):
     specular: FloatProperty(name="Specular", default=0.5, min=0.0, max=1.0, subtype="FACTOR")
 
 
-class SubsplatPreferences(bpy.types.AddonPreferences):
-    """Edit > Preferences > Add-ons > SubSplat."""
-    bl_idname = __package__
-
-    memory_budget_mb: IntProperty(
-        name="GPU Memory Budget (MiB)", default=0, min=0, max=1 << 24,
-        description="GPU memory SubSplat may use for meshes and buffers; a scene beyond it fails with an "
-                    "error naming the object or buffer. 0: automatic (90 % of what the driver reports, else "
-                    "half of the machine's RAM)")
-
-    def draw(self, context):
-        self.layout.prop(self, "memory_budget_mb")
-
-
-def memory_budget_bytes():
-    """The GPU memory budget in bytes, 0 for automatic: the preference where it is set, else the
-    environment's SUBSPLAT_GPU_MEMORY_MB (a render farm's limit for each Blender process)."""
-    addon = bpy.context.preferences.addons.get(__package__)
-    if addon is not None and addon.preferences is not None and addon.preferences.memory_budget_mb > 0:
-        return addon.preferences.memory_budget_mb << 20
-    setting = os.environ.get("SUBSPLAT_GPU_MEMORY_MB", "").strip()
-    return int(setting) << 20 if setting.isdigit() else 0
-
-
-CLASSES = (SubsplatSceneSettings, SubsplatMaterialSettings, SubsplatPreferences)
+CLASSES = (SubsplatSceneSettings, SubsplatMaterialSettings)
 
 
 def register():

@@ -1,7 +1,11 @@
 """Panels: render settings, material translucency, and the stock panels the engine supports."""
-import bpy
+import os
 
-from . import export, native
+import bpy
+from bpy.app.handlers import persistent
+
+from . import export, native, principled
+from .export import materials
 
 
 class SubsplatPanel:
@@ -86,18 +90,15 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
         layout.prop(settings, "specular")
         if not settings.enabled:
             return
-        warnings = []
-        try:
-            info = native.profile_info(export.material_desc(context.material, warnings))
-            profiles = export.source_profiles(context.material)
-            profiles = profiles.info() if profiles is not None else None
-        except (native.SubsplatError, export.ExportError) as error:
-            for line in _wrap(str(error)):
+        summary = material_summary(context.material)
+        if summary.error is not None:
+            for line in _wrap(summary.error):
                 layout.label(text=line, icon="ERROR")
             return
-        for warning in warnings:
+        for warning in summary.warnings:
             for line in _wrap(warning):
                 layout.label(text=line, icon="ERROR")
+        info, profiles = summary.info, summary.profiles
         col = layout.column(align=True)
         if profiles is not None:
             unit = settings.mm_per_unit
@@ -115,6 +116,96 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
         col.label(text="Scattering range (95%): " + ", ".join(f"{v:.4g}" for v in info.effective_range) + " units")
         col.label(text=f"Splat radius: {info.support_radius:.4g} units")
         layout.operator("subsplat.bake_subedit", icon="EXPORT")
+
+
+class MaterialSummary:
+    """What the material panel shows of a translucent material: the library's ProfileInfo, the
+    profile set's info (None for a dipole), the warnings, or the error that stopped it."""
+
+    def __init__(self, info=None, profiles=None, warnings=(), error=None):
+        self.info, self.profiles, self.warnings, self.error = info, profiles, list(warnings), error
+
+
+# Summaries by material: (settings fingerprint, summary). A panel redraws many times a second and a
+# summary asks the library and may read image pixels, so it is made again only when the material
+# changed: its SubSplat settings (the fingerprint) or, through the depsgraph, its nodes or an image.
+_summaries = {}
+MAX_SUMMARIES = 64
+
+
+def _fingerprint(material):
+    settings = material.subsplat
+    values = []
+    for prop in settings.bl_rna.properties:
+        if prop.identifier == "rna_type":
+            continue
+        value = getattr(settings, prop.identifier)
+        if isinstance(value, bpy.types.ID):
+            value = value.name_full
+        elif hasattr(value, "__len__") and not isinstance(value, str):
+            value = tuple(value)
+        values.append(value)
+    if settings.source == "PRINCIPLED":  # the BSDF's inputs the conversion reads, and their images
+        node = materials.principled_node(material)
+        for name in (principled.COLOR_INPUT, principled.RADIUS_INPUT, principled.SCALE_INPUT) if node else ():
+            socket = node.inputs[name]
+            linked = socket.links[0].from_node if socket.is_linked else None
+            image = getattr(linked, "image", None)
+            values.append((tuple(socket.default_value) if hasattr(socket.default_value, "__len__")
+                           else socket.default_value, linked and linked.bl_idname, image and image.name_full))
+    if settings.source == "SUBEDIT_FILE":  # the file may change on disk (a stat, not a read)
+        try:
+            status = os.stat(bpy.path.abspath(settings.subedit_path, library=material.library))
+            values.append((status.st_mtime_ns, status.st_size))
+        except OSError:
+            values.append(None)
+    return tuple(values)
+
+
+def material_summary(material):
+    """The panel's summary of a translucent material, made again only when the material changed."""
+    key = _fingerprint(material)
+    cached = _summaries.get(material.name_full)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    warnings = []
+    try:
+        described = materials.material_data(material, warnings)
+        info = native.profile_info(described)
+        summary = MaterialSummary(info, described.profiles.info() if described.profiles is not None else None,
+                                  warnings)
+    except (native.SubsplatError, export.ExportError) as error:
+        summary = MaterialSummary(error=str(error))
+    if len(_summaries) >= MAX_SUMMARIES:
+        _summaries.clear()
+    _summaries[material.name_full] = (key, summary)
+    return summary
+
+
+@persistent
+def _forget_changed_summaries(_scene, depsgraph):
+    """depsgraph_update_post: drops the summaries of edited materials (their nodes included), all of
+    them when an image or a node group changed."""
+    for update in depsgraph.updates:
+        item = update.id
+        if isinstance(item, bpy.types.Material):
+            _summaries.pop(item.original.name_full, None)
+        elif isinstance(item, bpy.types.Image) or (isinstance(item, bpy.types.NodeTree) and
+                                                    not item.is_embedded_data):
+            _summaries.clear()
+            return
+
+
+@persistent
+def _forget_summaries(*_args):
+    """load_post, undo_post, redo_post: the materials may all be others."""
+    _summaries.clear()
+
+
+HANDLERS = ((bpy.app.handlers.depsgraph_update_post, _forget_changed_summaries),
+            (bpy.app.handlers.load_post, _forget_summaries),
+            (bpy.app.handlers.undo_post, _forget_summaries),
+            (bpy.app.handlers.redo_post, _forget_summaries))
 
 
 def _wrap(text, width=60):
@@ -152,9 +243,15 @@ def register():
         bpy.utils.register_class(cls)
     for panel in _stock_panels():
         panel.COMPAT_ENGINES.add("SUBSPLAT")
+    for handlers, handler in HANDLERS:
+        handlers.append(handler)
 
 
 def unregister():
+    for handlers, handler in HANDLERS:
+        if handler in handlers:
+            handlers.remove(handler)
+    _summaries.clear()
     for panel in _stock_panels():
         panel.COMPAT_ENGINES.discard("SUBSPLAT")
     for cls in reversed(CLASSES):

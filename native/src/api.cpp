@@ -7,10 +7,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
+#include <unordered_set>
 #include <utility>
 
 #include "gl/gl.h"
@@ -34,24 +38,48 @@ struct Counted {
   inline static std::atomic<int64_t> live{0};
 };
 
+// The handles of one kind that are alive now. A handle is looked up here before it is read, so a
+// released (freed) or foreign pointer is refused without touching its memory: releasing twice is an
+// error, not a use after free.
+template <typename Handle>
+class Registry {
+ public:
+  void add(const Handle* handle) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    live_.insert(handle);
+  }
+  bool contains(const Handle* handle) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return live_.count(handle) != 0;
+  }
+  // False when the handle was not live.
+  bool remove(const Handle* handle) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return live_.erase(handle) != 0;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::unordered_set<const Handle*> live_;
+};
+
 }  // namespace
 
 struct SsContext_ : Counted<SsContext_> {
-  static constexpr uint64_t kMagic = 0x5355425350'4c4154ull;
-  uint64_t magic = kMagic;
   void* glContext = nullptr;  // the OpenGL context current at ssNewContext, which owns the GL objects
   subsplat::Renderer renderer;
 };
 
 struct SsProfileSet_ : Counted<SsProfileSet_> {
-  static constexpr uint64_t kMagic = 0x5353'50524f46'494cull;
-  uint64_t magic = kMagic;
   std::shared_ptr<const subsplat::ProfileSet> set;
 };
 
 namespace {
 
 thread_local std::string lastError;
+
+Registry<SsContext_> liveContexts;
+Registry<SsProfileSet_> liveProfileSets;
 
 template <typename F>
 SsStatus guarded(const char* entry, F&& body) {
@@ -76,8 +104,8 @@ SsStatus guarded(const char* entry, F&& body) {
 
 subsplat::Renderer& renderer(SsContext context) {
   if (context == nullptr) subsplat::fail(SS_INVALID_HANDLE, "context is NULL");
-  if (context->magic != SsContext_::kMagic)
-    subsplat::fail(SS_INVALID_HANDLE, "context is not a live subsplat context");
+  if (!liveContexts.contains(context))
+    subsplat::fail(SS_INVALID_HANDLE, "context is not a live subsplat context (released already, or never made)");
   return context->renderer;
 }
 
@@ -121,8 +149,8 @@ subsplat::Renderer& ownRenderer(SsContext context) {
 
 std::shared_ptr<const subsplat::ProfileSet> profileSet(SsProfileSet handle, const std::string& what) {
   if (handle == nullptr) subsplat::fail(SS_INVALID_HANDLE, what + " is NULL");
-  if (handle->magic != SsProfileSet_::kMagic)
-    subsplat::fail(SS_INVALID_HANDLE, what + " is not a live subsplat profile set");
+  if (!liveProfileSets.contains(handle))
+    subsplat::fail(SS_INVALID_HANDLE, what + " is not a live subsplat profile set (released already, or never made)");
   return handle->set;
 }
 
@@ -136,8 +164,126 @@ void newProfileSet(SsProfileSet* out, const std::function<subsplat::ProfileSet()
   *out = nullptr;
   auto handle = std::make_unique<SsProfileSet_>();
   handle->set = std::make_shared<const subsplat::ProfileSet>(make());
+  liveProfileSets.add(handle.get());
   *out = handle.release();
 }
+
+// One row of ssGetStructLayout's table: a struct of the header, or one of its fields (field "").
+struct LayoutEntry {
+  const char* type;
+  const char* field;
+  size_t offset, size;
+};
+
+#define SS_STRUCT(T) LayoutEntry{#T, "", 0, sizeof(T)}
+#define SS_FIELD(T, f) LayoutEntry{#T, #f, offsetof(T, f), sizeof(T::f)}
+
+// Every struct of subsplat.h and every field of each.
+const LayoutEntry kLayouts[] = {
+    SS_STRUCT(SsMeshDesc),
+    SS_FIELD(SsMeshDesc, positions),
+    SS_FIELD(SsMeshDesc, normals),
+    SS_FIELD(SsMeshDesc, uvs),
+    SS_FIELD(SsMeshDesc, vertex_count),
+    SS_FIELD(SsMeshDesc, indices),
+    SS_FIELD(SsMeshDesc, triangle_materials),
+    SS_FIELD(SsMeshDesc, triangle_count),
+    SS_FIELD(SsMeshDesc, default_material),
+    SS_FIELD(SsMeshDesc, object_to_world),
+    SS_STRUCT(SsMaterialDesc),
+    SS_FIELD(SsMaterialDesc, kind),
+    SS_FIELD(SsMaterialDesc, base_color),
+    SS_FIELD(SsMaterialDesc, sigma_a),
+    SS_FIELD(SsMaterialDesc, sigma_s_prime),
+    SS_FIELD(SsMaterialDesc, eta),
+    SS_FIELD(SsMaterialDesc, mm_per_unit),
+    SS_FIELD(SsMaterialDesc, roughness),
+    SS_FIELD(SsMaterialDesc, specular),
+    SS_FIELD(SsMaterialDesc, profiles),
+    SS_STRUCT(SsLightDesc),
+    SS_FIELD(SsLightDesc, type),
+    SS_FIELD(SsLightDesc, color),
+    SS_FIELD(SsLightDesc, strength),
+    SS_FIELD(SsLightDesc, position),
+    SS_FIELD(SsLightDesc, direction),
+    SS_FIELD(SsLightDesc, spot_size),
+    SS_FIELD(SsLightDesc, spot_blend),
+    SS_STRUCT(SsCameraDesc),
+    SS_FIELD(SsCameraDesc, world_to_view),
+    SS_FIELD(SsCameraDesc, view_to_clip),
+    SS_FIELD(SsCameraDesc, orthographic),
+    SS_STRUCT(SsSettings),
+    SS_FIELD(SsSettings, method),
+    SS_FIELD(SsSettings, irradiance_resolution),
+    SS_FIELD(SsSettings, background),
+    SS_FIELD(SsSettings, reference_samples),
+    SS_FIELD(SsSettings, levels),
+    SS_FIELD(SsSettings, z0_factor),
+    SS_FIELD(SsSettings, alpha),
+    SS_FIELD(SsSettings, epsilon),
+    SS_FIELD(SsSettings, lambda_z),
+    SS_FIELD(SsSettings, lambda_m),
+    SS_FIELD(SsSettings, debug_passes),
+    SS_FIELD(SsSettings, target_error),
+    SS_STRUCT(SsStats),
+    SS_FIELD(SsStats, frame_ms),
+    SS_FIELD(SsStats, stage_ms),
+    SS_FIELD(SsStats, fragment_invocations),
+    SS_FIELD(SsStats, splat_count),
+    SS_FIELD(SsStats, width),
+    SS_FIELD(SsStats, height),
+    SS_FIELD(SsStats, light_views),
+    SS_FIELD(SsStats, timers_available),
+    SS_FIELD(SsStats, statistics_available),
+    SS_FIELD(SsStats, translucent_pixels),
+    SS_FIELD(SsStats, lit_translucent_pixels),
+    SS_FIELD(SsStats, nonfinite_pixels),
+    SS_FIELD(SsStats, kernel_evaluations),
+    SS_FIELD(SsStats, levels),
+    SS_FIELD(SsStats, selected_per_level),
+    SS_FIELD(SsStats, splat_levels),
+    SS_FIELD(SsStats, splat_level_ms),
+    SS_FIELD(SsStats, splat_level_fragments),
+    SS_FIELD(SsStats, accumulation_ms),
+    SS_FIELD(SsStats, accumulation_fragments),
+    SS_FIELD(SsStats, irradiance_resolution),
+    SS_FIELD(SsStats, texels_per_range),
+    SS_STRUCT(SsResourceCounts),
+    SS_FIELD(SsResourceCounts, contexts),
+    SS_FIELD(SsResourceCounts, profile_sets),
+    SS_FIELD(SsResourceCounts, textures),
+    SS_FIELD(SsResourceCounts, buffers),
+    SS_FIELD(SsResourceCounts, framebuffers),
+    SS_FIELD(SsResourceCounts, vertex_arrays),
+    SS_FIELD(SsResourceCounts, programs),
+    SS_FIELD(SsResourceCounts, queries),
+    SS_FIELD(SsResourceCounts, orphaned_gl_objects),
+    SS_STRUCT(SsProfileSetDesc),
+    SS_FIELD(SsProfileSetDesc, segments),
+    SS_FIELD(SsProfileSetDesc, radius_mm),
+    SS_FIELD(SsProfileSetDesc, width),
+    SS_FIELD(SsProfileSetDesc, height),
+    SS_FIELD(SsProfileSetDesc, log_profiles),
+    SS_STRUCT(SsProfileSetInfo),
+    SS_FIELD(SsProfileSetInfo, segments),
+    SS_FIELD(SsProfileSetInfo, profiles),
+    SS_FIELD(SsProfileSetInfo, width),
+    SS_FIELD(SsProfileSetInfo, height),
+    SS_FIELD(SsProfileSetInfo, radius_mm),
+    SS_FIELD(SsProfileSetInfo, fit_error),
+    SS_FIELD(SsProfileSetInfo, max_fit_error),
+    SS_FIELD(SsProfileSetInfo, effective_range_mm),
+    SS_FIELD(SsProfileSetInfo, gpu_bytes),
+    SS_FIELD(SsProfileSetInfo, source_segments),
+    SS_FIELD(SsProfileSetInfo, source_profiles),
+    SS_STRUCT(SsProfileInfo),
+    SS_FIELD(SsProfileInfo, total_reflectance),
+    SS_FIELD(SsProfileInfo, effective_range),
+    SS_FIELD(SsProfileInfo, support_radius),
+};
+
+#undef SS_FIELD
+#undef SS_STRUCT
 
 template <typename T>
 const T& deref(const T* p, const char* what) {
@@ -152,6 +298,45 @@ extern "C" {
 int32_t ssGetApiVersion(void) { return SS_API_VERSION; }
 
 const char* ssGetLastError(void) { return lastError.c_str(); }
+
+SsStatus ssGetStructLayout(const char* type, const char* field, uint32_t* offset, uint32_t* size) {
+  return guarded("ssGetStructLayout", [&] {
+    if (offset == nullptr || size == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "offset or size is NULL");
+    *offset = 0;
+    *size = 0;
+    const char* typeName = &deref(type, "type");
+    const char* fieldName = field != nullptr ? field : "";
+    bool knownType = false;
+    for (const LayoutEntry& entry : kLayouts) {
+      if (std::strcmp(entry.type, typeName) != 0) continue;
+      knownType = true;
+      if (std::strcmp(entry.field, fieldName) != 0) continue;
+      *offset = uint32_t(entry.offset);
+      *size = uint32_t(entry.size);
+      return;
+    }
+    if (!knownType) subsplat::fail(SS_INVALID_ARGUMENT, "unknown struct '" + std::string(typeName) + "'");
+    subsplat::fail(SS_INVALID_ARGUMENT,
+                   "struct " + std::string(typeName) + " has no field '" + std::string(fieldName) + "'");
+  });
+}
+
+SsSettings ssDefaultSettings(void) {
+  using subsplat::Renderer;
+  SsSettings s{};
+  s.method = SS_METHOD_BRUTE;
+  s.irradiance_resolution = 512;
+  s.reference_samples = Renderer::kDefaultReferenceSamples;
+  s.levels = Renderer::kDefaultLevels;
+  s.z0_factor = Renderer::kDefaultZ0Factor;
+  s.alpha = Renderer::kDefaultAlpha;
+  s.epsilon = Renderer::kDefaultEpsilon;
+  s.lambda_z = Renderer::kDefaultLambda;
+  s.lambda_m = Renderer::kDefaultLambda;
+  s.debug_passes = 0;
+  s.target_error = Renderer::kDefaultTargetError;
+  return s;
+}
 
 SsStatus ssGetResourceCounts(SsResourceCounts* out) {
   return guarded("ssGetResourceCounts", [&] {
@@ -209,15 +394,18 @@ SsStatus ssNewContext(SsContext* out) {
     *out = nullptr;
     void* glContext = requireGlContext();
     subsplat::gl::deleteOrphans(glContext);
-    *out = new SsContext_();
-    (*out)->glContext = glContext;
+    auto context = std::make_unique<SsContext_>();
+    context->glContext = glContext;
+    liveContexts.add(context.get());
+    *out = context.release();
   });
 }
 
 SsStatus ssReleaseContext(SsContext context) {
   return guarded("ssReleaseContext", [&] {
-    renderer(context);
-    context->magic = 0;
+    if (context == nullptr) subsplat::fail(SS_INVALID_HANDLE, "context is NULL");
+    if (!liveContexts.remove(context))
+      subsplat::fail(SS_INVALID_HANDLE, "context is not a live subsplat context (released already, or never made)");
     // GL names belong to the context that made them: deleted from any other, they would
     // delete the host's objects of the same names. Away from its own context, a context's GL
     // objects wait for it (deleted by the next call made there: ssNewContext, a render).
@@ -421,8 +609,9 @@ SsStatus ssGetProfileSetInfo(SsProfileSet set, SsProfileSetInfo* out) {
 
 SsStatus ssReleaseProfileSet(SsProfileSet set) {
   return guarded("ssReleaseProfileSet", [&] {
-    profileSet(set, "set");
-    set->magic = 0;
+    if (set == nullptr) subsplat::fail(SS_INVALID_HANDLE, "set is NULL");
+    if (!liveProfileSets.remove(set))
+      subsplat::fail(SS_INVALID_HANDLE, "set is not a live subsplat profile set (released already, or never made)");
     delete set;
   });
 }

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -43,6 +45,70 @@ TEST(ApiWithoutContext, NullPointersAreRejected) {
   uint64_t notAContext[4] = {0, 0, 0, 0};
   EXPECT_EQ(ssSetLights(reinterpret_cast<SsContext>(notAContext), nullptr, 0), SS_INVALID_HANDLE);
   EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat context"), std::string::npos);
+}
+
+// A released handle is refused, never read: releasing twice, or using a released handle, fails with
+// SS_INVALID_HANDLE (the memory it pointed to may belong to something else by then).
+TEST(ApiResources, ReleasingAContextOrProfileSetTwiceIsAnError) {
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssReleaseContext(context), SS_OK) << ssGetLastError();
+  EXPECT_EQ(ssReleaseContext(context), SS_INVALID_HANDLE);
+  EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat context"), std::string::npos) << ssGetLastError();
+  SsSettings settings = ssDefaultSettings();
+  EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_HANDLE);
+
+  const float a[3] = {0.01f, 0.02f, 0.03f}, s[3] = {1.0f, 1.0f, 1.0f};
+  SsProfileSet set = nullptr;
+  ASSERT_EQ(ssNewProfileSetFromDipoles(1, 1, a, s, 1.3f, 0.0f, &set), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssReleaseProfileSet(set), SS_OK) << ssGetLastError();
+  EXPECT_EQ(ssReleaseProfileSet(set), SS_INVALID_HANDLE);
+  EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat profile set"), std::string::npos)
+      << ssGetLastError();
+  SsProfileSetInfo info{};
+  EXPECT_EQ(ssGetProfileSetInfo(set, &info), SS_INVALID_HANDLE);
+}
+
+// The layouts a binding checks its structs against are the compiler's.
+TEST(ApiLayout, StructLayoutsAreTheCompilersAndUnknownNamesAreRefused) {
+  uint32_t offset = 7, size = 7;
+  ASSERT_EQ(ssGetStructLayout("SsSettings", nullptr, &offset, &size), SS_OK) << ssGetLastError();
+  EXPECT_EQ(offset, 0u);
+  EXPECT_EQ(size, sizeof(SsSettings));
+  ASSERT_EQ(ssGetStructLayout("SsSettings", "target_error", &offset, &size), SS_OK) << ssGetLastError();
+  EXPECT_EQ(offset, offsetof(SsSettings, target_error));
+  EXPECT_EQ(size, sizeof(float));
+  ASSERT_EQ(ssGetStructLayout("SsStats", "stage_ms", &offset, &size), SS_OK) << ssGetLastError();
+  EXPECT_EQ(offset, offsetof(SsStats, stage_ms));
+  EXPECT_EQ(size, sizeof(double) * SS_STAGE_COUNT);
+  ASSERT_EQ(ssGetStructLayout("SsMaterialDesc", "profiles", &offset, &size), SS_OK) << ssGetLastError();
+  EXPECT_EQ(offset, offsetof(SsMaterialDesc, profiles));
+  EXPECT_EQ(size, sizeof(SsProfileSet));
+
+  EXPECT_EQ(ssGetStructLayout("SsNothing", nullptr, &offset, &size), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("unknown struct 'SsNothing'"), std::string::npos) << ssGetLastError();
+  EXPECT_EQ(ssGetStructLayout("SsSettings", "quality", &offset, &size), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("SsSettings has no field 'quality'"), std::string::npos)
+      << ssGetLastError();
+  EXPECT_EQ(ssGetStructLayout(nullptr, nullptr, &offset, &size), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssGetStructLayout("SsSettings", nullptr, nullptr, &size), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssGetStructLayout("SsSettings", nullptr, &offset, nullptr), SS_INVALID_ARGUMENT);
+}
+
+// ssDefaultSettings are what a new context starts with, and a context takes them as they are.
+TEST(ApiSettings, DefaultSettingsAreANewContextsSettings) {
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  SsSettings fresh{};
+  ASSERT_EQ(ssGetSettings(context, &fresh), SS_OK);
+  const SsSettings defaults = ssDefaultSettings();
+  EXPECT_EQ(std::memcmp(&fresh, &defaults, sizeof(SsSettings)), 0);
+  EXPECT_EQ(defaults.method, SS_METHOD_BRUTE);
+  EXPECT_FLOAT_EQ(defaults.lambda_z, 8.0f);
+  EXPECT_EQ(ssSetSettings(context, &defaults), SS_OK) << ssGetLastError();
+  EXPECT_EQ(ssReleaseContext(context), SS_OK);
 }
 
 SsResourceCounts resourceCounts() {
@@ -316,7 +382,8 @@ TEST_F(Api, ZeroAndAbsurdRenderSizesAreRejected) {
   EXPECT_EQ(ssRender(context, 10, -1, pixel), SS_INVALID_ARGUMENT);
   EXPECT_EQ(ssRender(context, 1, 1, nullptr), SS_INVALID_ARGUMENT);
   EXPECT_EQ(ssRender(context, 1 << 20, 1, pixel), SS_LIMIT_EXCEEDED);
-  SsSettings settings{SS_METHOD_BRUTE, 8, {0, 0, 0, 0}};  // 0 is automatic; below 16 is refused
+  SsSettings settings = ssDefaultSettings();
+  settings.irradiance_resolution = 8;  // 0 is automatic; below 16 is refused
   EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT);
   EXPECT_NE(error().find("irradiance resolution"), std::string::npos) << error();
   settings.irradiance_resolution = -1;

@@ -49,7 +49,10 @@ class Heterogeneous : public ::testing::Test {
   }
   // Renders and returns the exitance pass (rgb B, a: translucent).
   std::vector<float> exitance(int method, int size, uint32_t referenceSamples = 0) {
-    SsSettings settings{method, 256, {0, 0, 0, 0}, referenceSamples, 0, 0, 0, 0, 0, 0, 0};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = 256;
+    settings.reference_samples = referenceSamples;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK);
     std::vector<float> rgba(size_t(size) * size * 4), b(rgba.size());
     EXPECT_EQ(ssRender(context, size, size, rgba.data()), SS_OK) << ssGetLastError();

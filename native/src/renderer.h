@@ -55,9 +55,7 @@ class Renderer {
   int chooseResolution(const Bounds& translucent) const;
 
   Scene scene_;
-  SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,
-                       kDefaultZ0Factor, kDefaultAlpha, kDefaultEpsilon, kDefaultLambda, kDefaultLambda, 0,
-                       kDefaultTargetError};
+  SsSettings settings_ = ssDefaultSettings();
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;

@@ -1,6 +1,7 @@
 // Whole frames through the C API in a surfaceless EGL context.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -50,7 +51,9 @@ TEST_F(Render, PlaneExitanceMatchesDipoleTotalReflectance) {
   const float mmPerUnit = 200.0f;  // support radius ~0.2 units, slab half-width 2
   SsMaterialDesc marble = testing::marbleMaterial(mmPerUnit);
   ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
-  SsSettings settings{SS_METHOD_BRUTE, 256, {0, 0, 0, 0}};
+  SsSettings settings = ssDefaultSettings();
+  settings.method = SS_METHOD_BRUTE;
+  settings.irradiance_resolution = 256;
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   for (float incidence : {0.0f, 60.0f}) {
     SsLightDesc sun = testing::sunLight(3.0f, incidence);
@@ -90,7 +93,11 @@ TEST_F(Render, OpaqueLambertianPlaneUnderSunIsAlbedoOverPiTimesIrradiance) {
 TEST_F(Render, BackgroundWhereNothingIsHit) {
   SsCameraDesc camera = testing::topDownCamera(1.0f);
   ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsSettings settings{SS_METHOD_BRUTE, 64, {0.1f, 0.2f, 0.3f, 1.0f}};
+  SsSettings settings = ssDefaultSettings();
+  settings.method = SS_METHOD_BRUTE;
+  settings.irradiance_resolution = 64;
+  const float background[4] = {0.1f, 0.2f, 0.3f, 1.0f};
+  std::copy(background, background + 4, settings.background);
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   Frame frame = render(8);
   EXPECT_FLOAT_EQ(frame.rgba[2], 0.3f);
@@ -106,7 +113,11 @@ namespace {
 class Adaptive : public Render {
  protected:
   SsStats renderWith(int method, int size, int levels = 3, int irradiance = 256, float alpha = 0.0f) {
-    SsSettings settings{method, irradiance, {0, 0, 0, 0}, 0, levels, 0.0f, alpha};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = irradiance;
+    settings.levels = levels;
+    settings.alpha = alpha;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     last = render(size);
     SsStats stats{};
@@ -182,7 +193,11 @@ namespace {
 class Multires : public Render {
  protected:
   SsStats renderWith(int method, int size, float epsilon = 0.0f, int levels = 3) {
-    SsSettings settings{method, 256, {0, 0, 0, 0}, 0, levels, 0.0f, 0.0f, epsilon, 0.0f, 0.0f};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = 256;
+    settings.levels = levels;
+    settings.epsilon = epsilon;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     last = render(size);
     SsStats stats{};
@@ -252,7 +267,9 @@ TEST_F(Multires, AutomaticLevelsFollowTheScatteringRange) {
 // chosen. A fixed resolution is used as set, and its texels per R_P are reported too.
 TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
   auto renderAuto = [&](float targetError) {
-    SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = SS_METHOD_FULL;
+    settings.irradiance_resolution = 0;
     settings.target_error = targetError;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     last = render(32);
@@ -284,7 +301,9 @@ TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
   EXPECT_EQ(fixed.irradiance_resolution, 256);
   EXPECT_GT(fixed.texels_per_range, 0.0f);
 
-  SsSettings bad{SS_METHOD_FULL, 0, {0, 0, 0, 0}, 0, 0, 0.0f, 0.0f};
+  SsSettings bad = ssDefaultSettings();
+  bad.method = SS_METHOD_FULL;
+  bad.irradiance_resolution = 0;
   bad.target_error = 0.9f;
   EXPECT_EQ(ssSetSettings(context, &bad), SS_INVALID_ARGUMENT);
   EXPECT_NE(std::string(ssGetLastError()).find("target error"), std::string::npos) << ssGetLastError();
@@ -301,7 +320,11 @@ TEST_F(Multires, DebugPassesShowLevelsAndSelection) {
   ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
   const int size = 64;
   std::vector<float> pass(size_t(size) * size * 4);
-  SsSettings plain{SS_METHOD_FULL, 256, {0, 0, 0, 0}, 0, 3, 0.0f, 0.1f, 0.0f, 0.0f, 0.0f, 0};
+  SsSettings plain = ssDefaultSettings();
+  plain.method = SS_METHOD_FULL;
+  plain.irradiance_resolution = 256;
+  plain.levels = 3;
+  plain.alpha = 0.1f;
   ASSERT_EQ(ssSetSettings(context, &plain), SS_OK);
   render(size);
   EXPECT_NE(ssGetPass(context, SS_PASS_SELECTION, size, size, pass.data()), SS_OK) << "not enabled";

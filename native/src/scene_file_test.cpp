@@ -2,6 +2,7 @@
 // damaged files are rejected with a message, never a crash.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -50,7 +51,12 @@ class SceneFile : public ::testing::Test {
 // and the frame size of the render before the save.
 TEST_F(SceneFile, ReplaysTheSameImageInAFreshContext) {
   ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK);
-  SsSettings settings{SS_METHOD_FULL, 128, {0.1f, 0.2f, 0.3f, 1.0f}, 0, 2, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0};
+  SsSettings settings = ssDefaultSettings();
+  settings.method = SS_METHOD_FULL;
+  settings.irradiance_resolution = 128;
+  settings.levels = 2;
+  const float background[4] = {0.1f, 0.2f, 0.3f, 1.0f};
+  std::copy(background, background + 4, settings.background);
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   std::vector<float> original = render(context, 48, 40);
   ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
@@ -91,7 +97,10 @@ TEST_F(SceneFile, ReplaysAHeterogeneousMaterial) {
   m.profiles = set;
   ASSERT_EQ(testing::setLitSphere(context, sphere, m), SS_OK) << ssGetLastError();
   ASSERT_EQ(ssReleaseProfileSet(set), SS_OK);
-  SsSettings settings{SS_METHOD_BRUTE, 128, {0, 0, 0, 1}, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0};
+  SsSettings settings = ssDefaultSettings();
+  settings.method = SS_METHOD_BRUTE;
+  settings.irradiance_resolution = 128;
+  settings.background[3] = 1.0f;
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   std::vector<float> original = render(context, 32, 32);
   ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
@@ -159,7 +168,11 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
   SsMaterialDesc opaque{};
   opaque.kind = SS_MATERIAL_OPAQUE;
   ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
-  SsSettings settings{SS_METHOD_FULL, 0, {0, 0, 0, 1}, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0, 0.05f};
+  SsSettings settings = ssDefaultSettings();
+  settings.method = SS_METHOD_FULL;
+  settings.irradiance_resolution = 0;
+  settings.background[3] = 1.0f;
+  settings.target_error = 0.05f;
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
   ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
   std::vector<char> bytes = fileBytes();

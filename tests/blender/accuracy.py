@@ -26,7 +26,7 @@ def open_example(name, percentage):
 def render_passes(scene, method, reference_samples=None):
     """Combined and exitance pass of one SubSplat render, plus its stats."""
     import subsplat
-    subsplat.engine.keep_passes = True
+    subsplat.diagnostics.keep_passes = True
     scene.render.engine = "SUBSPLAT"
     scene.subsplat.method = method
     if reference_samples is not None:

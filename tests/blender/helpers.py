@@ -29,7 +29,7 @@ def enable_addon():
     import addon_utils
     addon_utils.enable("subsplat", default_set=True)
     import subsplat
-    subsplat.engine.exit_on_error = False
+    subsplat.diagnostics.exit_on_error = False
     return subsplat
 
 

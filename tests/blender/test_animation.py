@@ -130,18 +130,18 @@ class AnimationRendersAreDeterministic(unittest.TestCase):
 
 
 class CornerNormals(unittest.TestCase):
-    """The add-on's own corner normals (export.smooth_corner_normals: a fixed summation order) are
+    """The add-on's own corner normals (export.mesh.smooth_corner_normals: a fixed summation order) are
     Blender's, to float32 rounding, on smooth, flat and deformed meshes."""
 
     def compare(self, obj):
-        from subsplat import export
+        from subsplat.export import mesh as export_mesh
         mesh = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
         try:
             vertices = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
             mesh.vertices.foreach_get("co", vertices)
             loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
             mesh.loops.foreach_get("vertex_index", loop_vertex)
-            ours = export.smooth_corner_normals(mesh, vertices.reshape(-1, 3), loop_vertex)
+            ours = export_mesh.smooth_corner_normals(mesh, vertices.reshape(-1, 3), loop_vertex)
             mesh.calc_normals_split()
             blender = np.empty(len(mesh.loops) * 3, dtype=np.float32)
             mesh.loops.foreach_get("normal", blender)

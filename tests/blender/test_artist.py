@@ -72,7 +72,7 @@ class Artist(unittest.TestCase):
         image.colorspace_settings.name = "Non-Color"
         image.pixels.foreach_set(np.array([0.1, 0.05, 0.05, 1.0, 0.9, 0.8, 0.7, 1.0], dtype=np.float32))
         material.subsplat.albedo_image = image
-        info = subsplat.export.source_profiles(material).info()
+        info = subsplat.export.materials.source_profiles(material).info()
         self.assertEqual((info["profiles"], info["width"], info["height"]), (2, 2, 1))
         halves = helpers.render(scene, "artist_halves")
         material.subsplat.albedo_image = None

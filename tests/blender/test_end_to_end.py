@@ -67,7 +67,7 @@ class GlStateUnchanged(unittest.TestCase):
         bpy.context.object.data.materials.append(material)
         helpers.top_down_camera(scene, ortho_scale=1.2)
         helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
-        subsplat.viewport.check_gl_state = True
+        subsplat.diagnostics.check_gl_state = True
         try:
             for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"):
                 with self.subTest(method=method):
@@ -77,7 +77,7 @@ class GlStateUnchanged(unittest.TestCase):
                     self.assertIsNone(subsplat.last_render_error())
                     self.assertEqual(subsplat.last_render_stats()["gl_state_changes"], [])
         finally:
-            subsplat.viewport.check_gl_state = False
+            subsplat.diagnostics.check_gl_state = False
 
 
 class BrokenSceneFailsCleanly(unittest.TestCase):

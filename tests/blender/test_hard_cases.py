@@ -102,7 +102,7 @@ class StabilityBounds(unittest.TestCase):
         # The C API reads 0 as "the default"; a user's 0 must arrive as no weight, not as 8.
         scene = helpers.empty_scene(8, 8)
         scene.subsplat.lambda_m, scene.subsplat.lambda_z = 0.0, 0.0
-        settings = subsplat.export.native_settings(scene)
+        settings = subsplat.export.settings.render_settings(scene)
         for value in (settings.lambda_m, settings.lambda_z):
             self.assertGreater(value, 0.0)
             self.assertLess(value, 1e-20)

@@ -74,7 +74,7 @@ class Principled(unittest.TestCase):
         texture.image = image
         texture.interpolation = "Closest"
         links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs[principled.COLOR_INPUT])
-        info = subsplat.export.source_profiles(material).info()
+        info = subsplat.export.materials.source_profiles(material).info()
         self.assertEqual((info["profiles"], info["width"], info["height"]), (2, 2, 1))
         halves = helpers.render(scene, "principled_halves")
         # Against the sphere all dark and all light: each lit pixel shows one of the two (but near

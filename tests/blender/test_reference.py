@@ -20,11 +20,11 @@ def slab(size=32):
 
 class ReferenceInBlender(unittest.TestCase):
     def setUp(self):
-        self.original = subsplat.engine.report_progress
+        self.original = subsplat.engine.final.report_progress
         self.progress = []
 
     def tearDown(self):
-        subsplat.engine.report_progress = self.original
+        subsplat.engine.final.report_progress = self.original
 
     def record_progress(self, cancel=False):
         """Records each fraction, then does what the engine does (update_progress, test_break);
@@ -35,7 +35,7 @@ class ReferenceInBlender(unittest.TestCase):
             progress.append(fraction)
             go_on = original(engine, fraction)
             return go_on and not cancel
-        subsplat.engine.report_progress = report_progress
+        subsplat.engine.final.report_progress = report_progress
 
     def test_progress_reaches_blender(self):
         import bpy

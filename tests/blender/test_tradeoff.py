@@ -45,17 +45,17 @@ class QualitySetting(unittest.TestCase):
 
     def test_auto_by_default_and_manual_once_a_parameter_is_set(self):
         import bpy
-        from subsplat import export
+        from subsplat.export import settings as export_settings
         scene = helpers.empty_scene(64, 48)
         scene.subsplat.property_unset("quality")
         self.assertEqual(scene.subsplat.quality, "AUTO")
-        sent = export.native_settings(scene)
+        sent = export_settings.render_settings(scene)
         self.assertEqual((sent.irradiance_resolution, round(sent.target_error, 6)), (0, TARGET))
         scene.subsplat.target_error = 0.02
         self.assertEqual(scene.subsplat.quality, "AUTO", "the target is part of the automatic quality")
         scene.subsplat.irradiance_resolution = 256
         self.assertEqual(scene.subsplat.quality, "MANUAL")
-        self.assertEqual(export.native_settings(scene).irradiance_resolution, 256)
+        self.assertEqual(export_settings.render_settings(scene).irradiance_resolution, 256)
         scene.subsplat.quality = "AUTO"
         scene.subsplat.alpha = 20.0
         self.assertEqual(scene.subsplat.quality, "MANUAL")

@@ -27,7 +27,7 @@ from ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, en
 
 def setup():
     subsplat = enable_addon()
-    subsplat.viewport.check_gl_state = True  # every draw compares Blender's GL state around our calls
+    subsplat.diagnostics.check_gl_state = True  # every draw compares Blender's GL state around our calls
     scene = bpy.context.scene
     for obj in list(scene.objects):
         bpy.data.objects.remove(obj)

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 9
+#define SS_API_VERSION 10
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -202,6 +202,18 @@ typedef int32_t (*SsProgressCallback)(float fraction, void* user);
 /* Library */
 SS_API int32_t ssGetApiVersion(void);
 SS_API const char* ssGetLastError(void);
+
+/* The layout of this header's structs as the library was compiled: with field NULL, *size gets
+ * sizeof(type) and *offset 0; otherwise *offset gets offsetof(type, field) and *size the field's
+ * size (a whole array for array fields). Names as written here ("SsSettings", "lambda_z").
+ * Bindings check their copies of the structs against it when they load the library.
+ * Unknown type or field names: SS_INVALID_ARGUMENT. */
+SS_API SsStatus ssGetStructLayout(const char* type, const char* field, uint32_t* offset, uint32_t* size);
+
+/* The settings a new context starts with, every field set to its value (no 0 placeholders):
+ * SS_METHOD_BRUTE at 512 texels, transparent background, and the defaults documented at
+ * SsSettings. Set the fields you need by name on a copy. */
+SS_API SsSettings ssDefaultSettings(void);
 
 /* What the library holds now, over every context and thread: live handles and the GL
  * objects it created and has not deleted (leak tests, long sessions). A context released

@@ -20,7 +20,10 @@ class Reference : public ::testing::Test {
   void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
   void TearDown() override { ssReleaseContext(context); }
   std::vector<float> render(int width, int height, uint32_t samples, SsStatus expected = SS_OK) {
-    SsSettings settings{SS_METHOD_REFERENCE, 256, {0, 0, 0, 0}, samples};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = SS_METHOD_REFERENCE;
+    settings.irradiance_resolution = 256;
+    settings.reference_samples = samples;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     std::vector<float> rgba(size_t(width) * height * 4);
     EXPECT_EQ(ssRender(context, width, height, rgba.data()), expected) << ssGetLastError();
@@ -156,7 +159,10 @@ TEST_F(Reference, PassAndProgressCallsValidateTheirArguments) {
 
 TEST_F(Reference, RejectsOutOfRangeSampleCounts) {
   for (uint32_t samples : {1u, 999u, 100000001u}) {
-    SsSettings settings{SS_METHOD_REFERENCE, 256, {0, 0, 0, 0}, samples};
+    SsSettings settings = ssDefaultSettings();
+    settings.method = SS_METHOD_REFERENCE;
+    settings.irradiance_resolution = 256;
+    settings.reference_samples = samples;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT) << samples;
   }
 }

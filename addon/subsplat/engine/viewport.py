@@ -12,17 +12,15 @@ edited material, light or setting is described again.
 import sys
 import time
 
+import dataclasses
+
 import bpy
 import gpu
 from gpu_extras.presets import draw_texture_2d
 import numpy as np
 
-from . import export, native, properties
-
-# Tests set check_gl_state = True: each viewport draw and render compares the GL state before and
-# after the library's calls (native.gl_state) and reports what changed, in last_viewport()
-# ["gl_state_changes"] and last_render_stats()["gl_state_changes"].
-check_gl_state = False
+from .. import diagnostics, export, native, preferences
+from ..export import camera, data, lights, mesh, settings
 
 # The method a viewport uses for each setting: REFERENCE takes minutes, so the viewport shows FULL.
 VIEWPORT_METHOD = {"REFERENCE": "FULL"}
@@ -38,7 +36,7 @@ class Counters:
         self.light_exports = 0     # times the lights were sent
         self.full_syncs = 0
         self.draws = 0
-        self.gl_state_changes = []  # with viewport.check_gl_state: GL state the library left changed
+        self.gl_state_changes = []  # with diagnostics.check_gl_state: GL state the library left changed
         self.update_ms = 0.0       # the last view_update: depsgraph to library (exports included)
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
 
@@ -52,7 +50,7 @@ class ViewportSession:
     def __init__(self):
         self.context = None
         self.frame = export.Frame()  # the material registry: stable ids, ProfileSets kept alive
-        self.objects = {}            # instance key -> [object id, mesh tuple]
+        self.objects = {}            # instance key -> [object id, data.Mesh]
         self.free_ids = []
         self.next_id = 0
         self.settings = None
@@ -61,8 +59,8 @@ class ViewportSession:
         self.stats = {}
         # What view_update() found changed, sent by the next view_draw() (pending_lights and
         # pending_settings: None when unchanged).
-        self.pending_materials = {}   # material id -> MaterialDesc
-        self.pending_meshes = {}      # object id -> export_mesh() tuple
+        self.pending_materials = {}   # material id -> data.Material
+        self.pending_meshes = {}      # object id -> data.Mesh
         self.pending_removals = set()
         self.pending_lights = None
         self.pending_settings = None
@@ -81,7 +79,7 @@ class ViewportSession:
 
     def _sync(self, depsgraph, full):
         geometry, moved, materials = set(), set(), set()
-        lights = full
+        lights_changed = full
         if full:
             self.counters.full_syncs += 1
         else:
@@ -91,14 +89,14 @@ class ViewportSession:
                     materials.add(item.name_full)
                 elif isinstance(item, bpy.types.Object):
                     if item.type == "LIGHT":
-                        lights = True
+                        lights_changed = True
                     else:
                         if update.is_updated_geometry:
                             geometry.add(item.name_full)
                         if update.is_updated_transform:
                             moved.add(item.name_full)
                 elif isinstance(item, (bpy.types.Light, bpy.types.Collection)):
-                    lights = True
+                    lights_changed = True
                 elif isinstance(item, bpy.types.Image):
                     # Principled and artist materials read images: describe them all again.
                     materials.update(self.frame.materials)
@@ -114,41 +112,40 @@ class ViewportSession:
         for instance in depsgraph.object_instances:
             obj = instance.object
             if obj.type == "LIGHT":
-                light_descs.append(export._light_desc(obj, instance.matrix_world, self.frame))
+                light_descs.append(lights.light_data(obj, instance.matrix_world, self.frame.warnings))
                 continue
-            if not export.renders(obj):
+            if not mesh.renders(obj):
                 continue
             key = (obj.name_full, tuple(instance.persistent_id) if instance.is_instance else None)
             seen.add(key)
             entry = self.objects.get(key)
             if entry is None or obj.name_full in geometry:
                 known = set(self.frame.materials)
-                mesh = export.export_mesh(obj, instance.matrix_world, self.frame)
+                exported = mesh.export_mesh(obj, instance.matrix_world, self.frame)
                 self.counters.mesh_exports += 1
                 self._send_new_materials(known)
-                if mesh is None:
+                if exported is None:
                     if entry is not None:
                         self._remove(key)
                     continue
                 if entry is None:
                     entry = self.objects[key] = [self._new_id(), None]
-                entry[1] = mesh
+                entry[1] = exported
                 self._upload(entry)
             elif obj.name_full in moved:
-                entry[1] = entry[1][:5] + (export.column_major(instance.matrix_world),) + entry[1][6:]
+                entry[1] = dataclasses.replace(entry[1], object_to_world=data.column_major(instance.matrix_world))
                 self._upload(entry)
         for key in set(self.objects) - seen:
             self._remove(key)
-        if lights:
+        if lights_changed:
             self.pending_lights = light_descs
             self.counters.light_exports += 1
 
         scene = depsgraph.scene
-        settings = export.native_settings(scene)
-        settings.method = native.METHODS[VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)]
-        if self.settings is None or bytes(settings) != bytes(self.settings):
-            self.pending_settings = settings
-            self.settings = settings
+        sync = settings.render_settings(scene, method=VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method))
+        if self.settings is None or sync != self.settings:
+            self.pending_settings = sync
+            self.settings = sync
 
     def _send_new_materials(self, known):
         for name, (material_id, desc) in self.frame.materials.items():
@@ -175,17 +172,19 @@ class ViewportSession:
     def _send_pending(self):
         """Sends what view_update() found changed; the viewport's GL context is current."""
         if self.context is None:
-            native.set_memory_budget(properties.memory_budget_bytes())
+            native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
-        for material_id, desc in self.pending_materials.items():
-            self.context.set_material(material_id, desc)
-        self.pending_materials.clear()
-        for object_id in self.pending_removals:
+        # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
+        # the memory budget) is sent again by the next draw.
+        for material_id, material in list(self.pending_materials.items()):
+            self.context.set_material(material_id, material)
+            del self.pending_materials[material_id]
+        for object_id in list(self.pending_removals):
             self.context.remove_mesh(object_id)
-        self.pending_removals.clear()
-        while self.pending_meshes:
-            object_id, mesh = self.pending_meshes.popitem()
-            export.send_mesh(self.context, object_id, mesh)
+            self.pending_removals.discard(object_id)
+        for object_id, pending in reversed(list(self.pending_meshes.items())):
+            self.context.set_mesh(object_id, pending)
+            del self.pending_meshes[object_id]
             self.counters.mesh_uploads += 1
         if self.pending_lights is not None:
             self.context.set_lights(self.pending_lights)
@@ -204,15 +203,11 @@ class ViewportSession:
         region, view = context.region, context.region_data
         divisor = int(scene.subsplat.viewport_scale)
         width, height = max(region.width // divisor, 1), max(region.height // divisor, 1)
-        camera = native.CameraDesc()
-        camera.world_to_view = native.Float16(*export.column_major(view.view_matrix))
-        camera.view_to_clip = native.Float16(*export.column_major(view.window_matrix))
-        camera.orthographic = 0 if view.is_perspective else 1
         start = time.perf_counter()
-        state = native.gl_state() if check_gl_state else None
+        state = native.gl_state() if diagnostics.check_gl_state else None
         try:
             self._send_pending()
-            self.context.set_camera(camera)
+            self.context.set_camera(camera.view_data(view))
             pixels = self.context.render(width, height)
             frame_ms = (time.perf_counter() - start) * 1e3
             self.stats = self.context.stats()

@@ -1,0 +1,118 @@
+"""Final renders (F12, `blender -b -f`, `-a`): export the frame, render it in a native context made
+for it, and hand Blender the image and passes."""
+import re
+import time
+
+import bpy
+
+from .. import diagnostics, export, native, preferences
+from ..export import settings as export_settings
+from ..properties import METHOD_ITEMS
+
+EXITANCE_PASS = "SubSplat Exitance"
+SAMPLES_PASS = "SubSplat Samples"
+MAX_DEBUG_LEVELS = 8
+
+
+def level_pass(k):
+    return f"SubSplat Level {k}"
+
+
+def pass_names(scene):
+    """The passes a render of scene writes (the compositor's Render Layers node lists them)."""
+    names = ["Combined", EXITANCE_PASS]
+    if scene is not None and scene.subsplat.debug_passes and scene.subsplat.method != "REFERENCE":
+        names.append(SAMPLES_PASS)
+        names += [level_pass(k) for k in range(MAX_DEBUG_LEVELS)]
+    return names
+
+
+def render(engine, depsgraph):
+    """A final render of the depsgraph's scene at its output size."""
+    render_image(engine, depsgraph, preview=False)
+
+
+def render_image(engine, depsgraph, preview):
+    """Exports the frame, renders it and writes Blender's result; preview: a material preview (its
+    warnings are about Blender's preview scene, and it saves no scene file)."""
+    diagnostics.set_render_stats({})
+    scene = depsgraph.scene
+    settings = scene.subsplat
+    scale = scene.render.resolution_percentage / 100.0
+    width = max(int(scene.render.resolution_x * scale), 1)
+    height = max(int(scene.render.resolution_y * scale), 1)
+    engine.update_stats("", "SubSplat: exporting scene")
+    start = time.perf_counter()
+    frame = export.export_frame(depsgraph, width, height)
+    export_ms = (time.perf_counter() - start) * 1e3
+    if not preview:  # the material preview scene's area lights are Blender's, not the user's
+        for warning in frame.warnings:
+            engine.report({"WARNING"}, f"SubSplat: {warning}")
+
+    native.set_memory_budget(preferences.memory_budget_bytes())
+    # The native context's GL objects belong to the render GL context, current only inside render().
+    context = native.Context()
+    try:
+        for material_id, material in frame.materials.values():
+            context.set_material(material_id, material)
+        for object_id, mesh in enumerate(frame.meshes):
+            context.set_mesh(object_id, mesh)
+        context.set_lights(frame.lights)
+        context.set_camera(frame.camera)
+        debug = settings.debug_passes and settings.method != "REFERENCE"
+        context.set_settings(export_settings.render_settings(scene, debug))
+
+        progress = None
+        if settings.method == "REFERENCE":
+            engine.update_stats("", f"SubSplat Reference: {settings.reference_samples} surface samples")
+
+            def progress(fraction):
+                return report_progress(engine, fraction)
+        else:
+            engine.update_stats("", "SubSplat: rendering")
+        diagnostics.set_render_passes({})
+        pixels = context.render(width, height, progress)
+        exitance = context.exitance_pass(width, height)
+        stats = context.stats()
+        if settings.scene_file and not preview:
+            stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
+            context.save_scene(stats["scene_file"])
+        stats.update(method=settings.method, preview=preview, export_ms=export_ms, meshes=len(frame.meshes),
+                     lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
+        diagnostics.set_render_stats(stats)
+        passes = {EXITANCE_PASS: exitance}
+        if debug:
+            passes[SAMPLES_PASS] = context.render_pass(native.SS_PASS_SELECTION, width, height)
+            for k in range(min(stats["splat_levels"], MAX_DEBUG_LEVELS)):
+                passes[level_pass(k)] = context.render_pass(native.SS_PASS_LEVEL_EXITANCE + k, width, height)
+    finally:
+        context.release_quietly()
+    if diagnostics.keep_passes:
+        diagnostics.set_render_passes({"Combined": pixels, **passes})
+
+    for name in passes:
+        engine.add_pass(name, 4, "RGBA")
+    result = engine.begin_result(0, 0, width, height)
+    result.layers[0].passes["Combined"].rect = pixels.reshape(-1, 4)
+    for name, values in passes.items():
+        result.layers[0].passes[name].rect = values.reshape(-1, 4)
+    engine.end_result(result)
+    label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
+    if settings.method == "REFERENCE":
+        detail = f"{stats['splat_count']} surface samples"
+    else:
+        detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['splat_count']} splats, "
+                  f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
+    engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
+
+
+def scene_file_path(setting, frame):
+    """The Save Scene File setting as an absolute path, runs of '#' replaced by the zero-padded frame."""
+    path = bpy.path.abspath(setting)
+    return re.sub(r"#+", lambda run: str(frame).zfill(len(run.group())), path)
+
+
+def report_progress(engine, fraction):
+    """Moves Blender's progress bar; False when the user asked to stop (Esc)."""
+    engine.update_progress(fraction)
+    return not engine.test_break()

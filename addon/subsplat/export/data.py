@@ -1,0 +1,84 @@
+"""The plain data one frame is made of: what the export modules produce and native.py converts to
+the library's structs (native/include/subsplat/subsplat.h). No bpy, no ctypes."""
+from dataclasses import dataclass
+from typing import Any, Optional, Tuple
+
+import numpy as np
+
+Vector3 = Tuple[float, float, float]
+ZERO3 = (0.0, 0.0, 0.0)
+
+
+class ExportError(RuntimeError):
+    """Scene data the engine cannot render; the message names the object or material."""
+
+
+def column_major(matrix):
+    """A mathutils 4x4 Matrix as 16 floats, column-major (OpenGL order)."""
+    return tuple(matrix[row][col] for col in range(4) for row in range(4))
+
+
+@dataclass
+class Material:
+    """SsMaterialDesc. kind: "OPAQUE", "DIPOLE" or "SUBEDIT" (which has profiles, a native.ProfileSet)."""
+    kind: str
+    base_color: Vector3 = ZERO3
+    sigma_a: Vector3 = ZERO3
+    sigma_s_prime: Vector3 = ZERO3
+    eta: float = 0.0
+    mm_per_unit: float = 0.0
+    roughness: float = 0.0
+    specular: float = 0.0
+    profiles: Any = None
+
+
+@dataclass
+class Mesh:
+    """One object instance: per-corner positions and normals (float32 (n, 3)), triangle corner
+    indices (uint32 (t, 3)), material ids per triangle (uint32 (t,)), 16 floats column-major, and
+    per-corner UVs (float32 (n, 2)) or None."""
+    name: str
+    positions: np.ndarray
+    normals: np.ndarray
+    triangles: np.ndarray
+    triangle_materials: np.ndarray
+    object_to_world: Tuple[float, ...]
+    uvs: Optional[np.ndarray] = None
+
+
+@dataclass
+class Light:
+    """SsLightDesc. type: "POINT", "SPOT" or "SUN"."""
+    type: str
+    color: Vector3
+    strength: float
+    position: Vector3
+    direction: Vector3
+    spot_size: float = 0.0
+    spot_blend: float = 0.0
+
+
+@dataclass
+class Camera:
+    """SsCameraDesc: 16 floats each, column-major."""
+    world_to_view: Tuple[float, ...]
+    view_to_clip: Tuple[float, ...]
+    orthographic: bool = False
+
+
+@dataclass
+class Settings:
+    """SsSettings. method: "BRUTE", "MULTIRES", "ADAPTIVE", "FULL" or "REFERENCE"; 0 in a field is
+    the library's default (automatic resolution and levels)."""
+    method: str
+    background: Tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    irradiance_resolution: int = 0
+    reference_samples: int = 0
+    levels: int = 0
+    z0_factor: float = 0.0
+    alpha: float = 0.0
+    epsilon: float = 0.0
+    lambda_z: float = 0.0
+    lambda_m: float = 0.0
+    debug_passes: bool = False
+    target_error: float = 0.0

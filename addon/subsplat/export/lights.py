@@ -1,0 +1,21 @@
+"""Blender lights as Light data."""
+from .data import Light
+
+
+def light_data(obj, matrix, warnings):
+    """An evaluated light object at matrix (its instance's world matrix); a warning for what is
+    rendered otherwise than in Blender is appended to warnings."""
+    light = obj.data
+    axis = -matrix.col[2].xyz  # lights shine down their local -Z
+    direction = tuple(axis.normalized()) if axis.length > 0 else (0.0, 0.0, -1.0)
+    data = Light(type="POINT", color=tuple(light.color), strength=light.energy, position=tuple(matrix.translation),
+                 direction=direction)
+    if light.type == "SUN":
+        data.type = "SUN"
+    elif light.type == "SPOT":
+        data.type = "SPOT"
+        data.spot_size = light.spot_size
+        data.spot_blend = light.spot_blend
+    elif light.type == "AREA":
+        warnings.append(f"light '{obj.name}': area lights are rendered as point lights")
+    return data

@@ -1,0 +1,162 @@
+"""Blender materials as plain Material data, and the profile sets of heterogeneous materials."""
+import collections
+import dataclasses
+import hashlib
+import os
+
+import bpy
+import numpy as np
+
+from .. import artist, native, principled, version
+from .data import ExportError, Material
+
+# The profile sets made so far (SubEdit files, Principled BSDFs, the artist model), most recently
+# used last: identity -> (inputs key, ProfileSet). The identity is the file for a SubEdit file (the
+# materials that use one file share its set) and the material for the others; a set is made again
+# only when its inputs key changed. Sets beyond MAX_PROFILE_SETS, least recently used first, are
+# released (a frame that uses one keeps it alive through its Material). A scene with more
+# heterogeneous materials than that makes some sets again each frame: same images, slower export.
+MAX_PROFILE_SETS = 64
+_profile_sets = collections.OrderedDict()
+
+
+def _cached(identity, key, make):
+    """The cached set of identity if its inputs key is key, else make()'s, stored under it."""
+    cached = _profile_sets.get(identity)
+    if cached is not None and cached[0] == key:
+        _profile_sets.move_to_end(identity)
+        return cached[1]
+    profiles = make()
+    _profile_sets[identity] = (key, profiles)
+    _profile_sets.move_to_end(identity)
+    while len(_profile_sets) > MAX_PROFILE_SETS:
+        _profile_sets.popitem(last=False)
+    return profiles
+
+
+def cached_profile_sets():
+    """How many profile sets the cache holds now (tests)."""
+    return len(_profile_sets)
+
+
+def principled_node(material):
+    if not material.use_nodes or material.node_tree is None:
+        return None
+    for node in material.node_tree.nodes:
+        if node.type == "OUTPUT_MATERIAL" and node.is_active_output:
+            link = node.inputs["Surface"].links
+            if link and link[0].from_node.type == "BSDF_PRINCIPLED":
+                return link[0].from_node
+    return next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+
+
+def _native_profiles(material, make):
+    try:
+        return make()
+    except native.SubsplatError as error:
+        raise ExportError(f"material '{material.name}': {error}") from None
+
+
+def subedit_file_profiles(material):
+    """The ProfileSet of a SUBEDIT_FILE material, read again only when the file changed on disk or
+    the tolerance changed; ExportError names the material and the file."""
+    settings = material.subsplat
+    if not settings.subedit_path:
+        raise ExportError(f"material '{material.name}': no SubEdit file is set (Material > Translucency > File)")
+    path = os.path.normpath(bpy.path.abspath(settings.subedit_path, library=material.library))
+    try:
+        status = os.stat(path)
+    except OSError:
+        raise ExportError(f"material '{material.name}': SubEdit file '{path}' does not exist") from None
+    key = (status.st_mtime_ns, status.st_size, settings.fit_tolerance)
+    return _cached(("SUBEDIT_FILE", path), key, lambda: _native_profiles(
+        material, lambda: native.ProfileSet.load(path, settings.fit_tolerance)))
+
+
+def principled_profiles(material, warnings=None):
+    """The ProfileSet of a PRINCIPLED material, made again only when its inputs changed."""
+    settings = material.subsplat
+    node = principled_node(material)
+    if node is None:
+        raise ExportError(f"material '{material.name}': the Principled BSDF source needs a Principled BSDF node")
+    try:
+        sigma_a, sigma_s, notes, key = principled.read(material, node, settings.mm_per_unit, settings.eta)
+    except principled.PrincipledError as error:
+        raise ExportError(str(error)) from None
+    if warnings is not None:
+        warnings.extend(notes)
+    key = (key, settings.fit_tolerance, settings.mm_per_unit)
+    return _cached(("PRINCIPLED", material.name_full), key, lambda: _native_profiles(
+        material, lambda: native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance)))
+
+
+def artist_profiles(material):
+    """The ProfileSet of an ARTIST material, made again only when its inputs changed."""
+    settings = material.subsplat
+    try:
+        if settings.albedo_image is not None:
+            albedo = principled._image_values(settings.albedo_image, linear_colour=True)
+        else:
+            albedo = np.asarray(settings.albedo_color, dtype=np.float32).reshape(1, 1, 3)
+        log_profiles, radius_mm = artist.profiles(material, settings.mm_per_unit, albedo)
+    except (artist.ArtistError, principled.PrincipledError) as error:
+        raise ExportError(str(error) if str(error).startswith("material") else
+                          f"material '{material.name}': {error}") from None
+    key = (hashlib.blake2b(log_profiles.tobytes(), digest_size=16).hexdigest(), radius_mm, settings.fit_tolerance)
+    return _cached(("ARTIST", material.name_full), key, lambda: _native_profiles(
+        material, lambda: native.ProfileSet.from_profiles(log_profiles, radius_mm, settings.fit_tolerance)))
+
+
+def source_profiles(material, warnings=None):
+    """The ProfileSet of a SUBEDIT_FILE, PRINCIPLED or ARTIST material (None for DIPOLE)."""
+    source = material.subsplat.source
+    if source == "SUBEDIT_FILE":
+        return subedit_file_profiles(material)
+    if source == "PRINCIPLED":
+        return principled_profiles(material, warnings)
+    if source == "ARTIST":
+        return artist_profiles(material)
+    return None
+
+
+def material_profiles(material):
+    """A translucent material as a ProfileSet, whatever its source (what Bake SubEdit Material writes)."""
+    settings = material.subsplat
+    profiles = source_profiles(material)
+    if profiles is not None:
+        return profiles
+    sigma_a = np.array(settings.sigma_a, dtype=np.float32).reshape(1, 1, 3)
+    sigma_s_prime = np.array(settings.sigma_s_prime, dtype=np.float32).reshape(1, 1, 3)
+    return _native_profiles(material, lambda: native.ProfileSet.from_dipoles(
+        sigma_a, sigma_s_prime, settings.eta, settings.fit_tolerance))
+
+
+# Blender's material without a material slot: light grey, half rough.
+DEFAULT_MATERIAL = Material(kind="OPAQUE", base_color=(0.8, 0.8, 0.8), roughness=0.5, specular=0.5)
+
+
+def material_data(material, warnings=None):
+    """The Material data of a Blender material (None: the default grey).
+
+    A SUBEDIT Material holds its ProfileSet (this module's cache keeps it too). Warnings about the
+    material (inputs that are not read) are appended to `warnings`.
+    """
+    if material is None:
+        return dataclasses.replace(DEFAULT_MATERIAL)
+    settings = material.subsplat
+    if settings.enabled:
+        data = Material(kind="DIPOLE", sigma_a=tuple(settings.sigma_a), sigma_s_prime=tuple(settings.sigma_s_prime),
+                        eta=settings.eta, mm_per_unit=settings.mm_per_unit, roughness=settings.roughness,
+                        specular=settings.specular)
+        profiles = source_profiles(material, warnings)
+        if profiles is not None:
+            data.kind = "SUBEDIT"
+            data.profiles = profiles
+        return data
+    node = principled_node(material)
+    if node is not None:
+        return Material(kind="OPAQUE", base_color=tuple(node.inputs["Base Color"].default_value[:3]),
+                        roughness=node.inputs["Roughness"].default_value,
+                        specular=min(max(node.inputs[version.PRINCIPLED_SPECULAR].default_value, 0.0), 1.0))
+    return Material(kind="OPAQUE", base_color=tuple(material.diffuse_color[:3]), roughness=material.roughness,
+                    specular=material.specular_intensity)

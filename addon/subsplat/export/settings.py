@@ -1,0 +1,42 @@
+"""The scene's SubSplat settings as Settings data."""
+from .data import Settings
+
+# The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
+# positive weight (exp(-1e-30 x) is 1 for any difference).
+SMALLEST_WEIGHT = 1e-30
+
+
+def render_settings(scene, debug_passes=False, method=None):
+    """The scene's settings; method replaces the scene's (the viewport shows FULL for REFERENCE)."""
+    settings = scene.subsplat
+    result = Settings(method=method or settings.method, background=background(scene),
+                      reference_samples=settings.reference_samples)
+    if settings.quality == "AUTO":  # 0: the library's automatic resolution and levels, default thresholds
+        result.irradiance_resolution = 0
+        result.target_error = settings.target_error
+    else:
+        result.irradiance_resolution = settings.irradiance_resolution
+        result.levels = settings.levels
+        result.z0_factor = settings.z0_factor
+        result.alpha = settings.alpha
+        result.epsilon = settings.epsilon
+    result.lambda_z = settings.lambda_z or SMALLEST_WEIGHT
+    result.lambda_m = settings.lambda_m or SMALLEST_WEIGHT
+    result.debug_passes = bool(debug_passes)
+    return result
+
+
+def background(scene):
+    """RGBA written where no object is hit: transparent, or the world colour."""
+    if scene.render.film_transparent:
+        return (0.0, 0.0, 0.0, 0.0)
+    world = scene.world
+    if world is None:
+        return (0.0, 0.0, 0.0, 1.0)
+    if world.use_nodes and world.node_tree is not None:
+        node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+        if node is not None:
+            color = node.inputs["Color"].default_value
+            strength = node.inputs["Strength"].default_value
+            return (color[0] * strength, color[1] * strength, color[2] * strength, 1.0)
+    return (*world.color, 1.0)

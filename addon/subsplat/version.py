@@ -1,0 +1,29 @@
+"""What differs between the Blender versions the add-on runs on, in one place."""
+import bpy
+
+BLENDER_4 = bpy.app.version >= (4, 0, 0)
+
+# Principled BSDF inputs that were renamed or changed meaning in 4.0 (docs/PRINCIPLED.md).
+PRINCIPLED_SPECULAR = "Specular IOR Level" if BLENDER_4 else "Specular"
+# The subsurface colour: 3.x has its own input, 4.x uses the base colour.
+PRINCIPLED_SUBSURFACE_COLOR = "Base Color" if BLENDER_4 else "Subsurface Color"
+PRINCIPLED_SUBSURFACE_RADIUS = "Subsurface Radius"
+# What scales the radius: 3.x the Subsurface weight (as Cycles 3.x), 4.x Subsurface Scale.
+PRINCIPLED_SUBSURFACE_SCALE = "Subsurface Scale" if BLENDER_4 else "Subsurface"
+
+
+def needs_blender_corner_normals(mesh):
+    """Whether a mesh's corner normals must be Blender's own (4.x, custom split normals, auto
+    smooth) rather than the add-on's deterministic smooth normals."""
+    return BLENDER_4 or mesh.has_custom_normals or mesh.use_auto_smooth
+
+
+def blender_corner_normals(mesh, out):
+    """Blender's corner normals into a float32 array of 3 per loop: mesh.corner_normals in 4.x,
+    calc_normals_split and the loops' normals in 3.x."""
+    if BLENDER_4:
+        mesh.corner_normals.foreach_get("vector", out)
+    else:
+        mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", out)
+    return out
