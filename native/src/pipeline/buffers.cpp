@@ -135,14 +135,6 @@ void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
   glDisable(GL_DEPTH_TEST);
 }
 
-glm::vec3 cameraPosition(const SsCameraDesc& camera) {
-  return glm::vec3(glm::inverse(glm::make_mat4(camera.world_to_view))[3]);
-}
-
-glm::vec3 cameraForward(const SsCameraDesc& camera) {
-  return -glm::normalize(glm::vec3(glm::inverse(glm::make_mat4(camera.world_to_view))[2]));
-}
-
 void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
   glm::vec3 position = cameraPosition(camera), forward = cameraForward(camera);
   glUniform3fv(uniform(program, "cameraPosition"), 1, glm::value_ptr(position));

@@ -7,6 +7,7 @@
 #include "gl/gl.h"
 #include "pipeline/light_views.h"
 #include "scene.h"
+#include "util/camera.h"
 
 namespace subsplat {
 
@@ -67,9 +68,7 @@ class SplattingBuffer {
   gl::Framebuffer framebuffer_;
 };
 
-// Camera position and forward axis from the world-to-view matrix.
-glm::vec3 cameraPosition(const SsCameraDesc& camera);
-glm::vec3 cameraForward(const SsCameraDesc& camera);
+// cameraPosition, cameraForward and orthographic as uniforms.
 void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
 
 }  // namespace subsplat

@@ -10,9 +10,9 @@
 
 #include "material/dipole.h"
 #include "material/profile_set.h"
-#include "pipeline/buffers.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
+#include "util/camera.h"
 #include "util/error.h"
 
 namespace subsplat {
