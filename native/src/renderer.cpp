@@ -17,6 +17,7 @@ Renderer::Renderer() {
                           std::to_string(epoxy_gl_version() / 10) + "." +
                           std::to_string(epoxy_gl_version() % 10));
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize_);
+  scene_.setMeshObserver(&gpuScene_);
 }
 
 void Renderer::setSettings(const SsSettings& s) {
@@ -59,6 +60,7 @@ void Renderer::setSettings(const SsSettings& s) {
 
 void Renderer::uploadMaterials() {
   scene_.resolveMaterials();
+  gpuScene_.update(scene_);
   if (uploadedMaterialVersion_ == scene_.materialVersion() && materialBuffer_ &&
       uploadedEpsilon_ == settings_.epsilon)
     return;
@@ -209,7 +211,7 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_ = SsStats{};
   StageProfiler profiler;
   profiler.begin(SS_STAGE_BUFFERS);
-  splatting_.render(scene_);
+  splatting_.render(scene_, gpuScene_);
   splatting_.buildHierarchy(scene_.camera());
   profiler.end();
   splats_.clear();
@@ -227,7 +229,7 @@ void Renderer::render(int width, int height, float* rgba) {
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
       profiler.begin(SS_STAGE_BUFFERS);
-      irradiance_.render(scene_, view);
+      irradiance_.render(scene_, gpuScene_, view);
       if (adaptive) irradiance_.buildHierarchy();
       profiler.end();
       if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
@@ -356,10 +358,7 @@ Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& tra
 }
 
 void Renderer::renderReference(int width, int height, float* rgba) {
-  {
-    gl::StateGuard guard;  // material resolution updates per-triangle buffers
-    scene_.resolveMaterials();
-  }
+  scene_.resolveMaterials();
   ReferenceOptions options;
   options.samples = settings_.reference_samples;
   options.background = glm::make_vec4(settings_.background);

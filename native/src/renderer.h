@@ -2,6 +2,7 @@
 #pragma once
 
 #include "pipeline/buffers.h"
+#include "pipeline/material_tables.h"
 #include "pipeline/splatting.h"
 #include "pipeline/stage_profiler.h"
 #include "reference/reference_renderer.h"
@@ -55,6 +56,7 @@ class Renderer {
   int chooseResolution(const Bounds& translucent) const;
 
   Scene scene_;
+  GpuScene gpuScene_;  // follows scene_ (its mesh observer)
   SsSettings settings_{SS_METHOD_BRUTE, 512, {0, 0, 0, 0}, kDefaultReferenceSamples, kDefaultLevels,
                        kDefaultZ0Factor, kDefaultAlpha, kDefaultEpsilon, kDefaultLambda, kDefaultLambda, 0,
                        kDefaultTargetError};

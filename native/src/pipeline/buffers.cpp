@@ -34,9 +34,9 @@ void setLightUniforms(GLuint program, const LightView& view) {
   glUniform1f(uniform(program, "lightSpotSmooth"), (1.0f - cosHalf) * l.spot_blend);
 }
 
-void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
+void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj) {
   glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
-  bindTexture(8, GL_TEXTURE_BUFFER, scene.profileMaps(), program, "profileMaps");
+  bindTexture(8, GL_TEXTURE_BUFFER, gpu.profileMaps(), program, "profileMaps");
   for (const auto& [id, mesh] : scene.meshes()) {
     glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(mesh.objectToWorld)));
     glUniformMatrix4fv(uniform(program, "objectToWorld"), 1, GL_FALSE,
@@ -44,8 +44,9 @@ void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj) {
     glUniformMatrix3fv(uniform(program, "normalToWorld"), 1, GL_FALSE, glm::value_ptr(normalToWorld));
     glUniform1f(uniform(program, "objectIndex"), float(mesh.index));
     glUniform1i(uniform(program, "meshHasUvs"), mesh.hasUvs() ? 1 : 0);
-    bindTexture(7, GL_TEXTURE_BUFFER, mesh.triangleMaterials.id(), program, "triangleMaterials");
-    glBindVertexArray(mesh.vertexArray.id());
+    const GpuMesh& buffers = gpu.mesh(id);
+    bindTexture(7, GL_TEXTURE_BUFFER, buffers.triangleMaterials.id(), program, "triangleMaterials");
+    glBindVertexArray(buffers.vertexArray.id());
     glDrawElements(GL_TRIANGLES, GLsizei(3 * mesh.triangleCount), GL_UNSIGNED_INT, nullptr);
   }
   glBindVertexArray(0);
@@ -110,7 +111,7 @@ void IrradianceBuffer::buildHierarchy() {
   gl::checkErrors("irradiance hierarchy");
 }
 
-void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
+void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, resolution_, resolution_);
   const float empty[4] = {0, 0, 0, -2}, zero[4] = {0, 0, 0, 0}, far[4] = {1e30f, 0, 0, 0};
@@ -131,7 +132,7 @@ void IrradianceBuffer::render(const Scene& scene, const LightView& view) {
   glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
   glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
   glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
-  drawMeshes(scene, p, view.viewProj);
+  drawMeshes(scene, gpu, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);
 }
 
@@ -179,7 +180,7 @@ void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
   gl::checkErrors("splatting hierarchy");
 }
 
-void SplattingBuffer::render(const Scene& scene) {
+void SplattingBuffer::render(const Scene& scene, const GpuScene& gpu) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   const float none[4] = {0, 0, 0, -1};
@@ -194,7 +195,7 @@ void SplattingBuffer::render(const Scene& scene) {
   setCameraUniforms(p, scene.camera());
   glm::mat4 viewProj = glm::make_mat4(scene.camera().view_to_clip) *
                        glm::make_mat4(scene.camera().world_to_view);
-  drawMeshes(scene, p, viewProj);
+  drawMeshes(scene, gpu, p, viewProj);
   glDisable(GL_DEPTH_TEST);
 }
 

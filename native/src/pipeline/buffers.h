@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include "gl/gl.h"
+#include "pipeline/gpu_scene.h"
 #include "pipeline/light_views.h"
 #include "scene.h"
 #include "util/camera.h"
@@ -17,7 +18,7 @@ void setLightUniforms(GLuint program, const LightView& view);
 void bindTexture(int unit, GLenum target, GLuint texture, GLuint program, const char* name);
 
 // Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
-void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj);
+void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj);
 
 class IrradianceBuffer {
  public:
@@ -25,7 +26,7 @@ class IrradianceBuffer {
   // profileSplits: keep, per level-0 texel, where a second profile covers part
   // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
   void resize(int resolution, int levels = 1, bool profileSplits = false);
-  void render(const Scene& scene, const LightView& view);
+  void render(const Scene& scene, const GpuScene& gpu, const LightView& view);
   // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
   void buildHierarchy();
   int resolution() const { return resolution_; }
@@ -55,7 +56,7 @@ class SplattingBuffer {
  public:
   // levels > 1: a median-depth hierarchy for multiresolution splatting.
   void resize(int width, int height, int levels = 1);
-  void render(const Scene& scene);
+  void render(const Scene& scene, const GpuScene& gpu);
   void buildHierarchy(const SsCameraDesc& camera);
   int levels() const { return levels_; }
   GLuint positionObject() const { return positionObject_.id(); }
