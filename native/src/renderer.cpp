@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pipeline/auto_quality.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -188,8 +189,8 @@ void Renderer::render(int width, int height, float* rgba) {
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
-  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(translucent);
-  Levels chosen = chooseLevels(width, height, translucent, resolution, adaptive, multires);
+  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(scene_, translucent, settings_.target_error, maxTextureSize_);
+  Levels chosen = chooseLevels(scene_, settings_, width, height, translucent, resolution, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   {
     std::string size = std::to_string(resolution);
@@ -223,8 +224,8 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.levels = levels;
   stats_.splat_levels = splatLevels;
   stats_.irradiance_resolution = resolution;
-  double coarsest = lightTexel(translucent, resolution, false);
-  stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange() / coarsest) : 0.0f;
+  double coarsest = lightTexel(scene_, translucent, resolution, false);
+  stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange(scene_) / coarsest) : 0.0f;
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
@@ -262,99 +263,6 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
-}
-
-double Renderer::shortestRange() const {
-  double range = 0.0;
-  for (const MaterialEntry& m : scene_.denseMaterials()) {
-    if (!m.kernel) continue;
-    for (double r : m.kernel->effectiveRange())
-      if (r > 0.0) range = range > 0.0 ? std::min(range, r) : r;
-  }
-  return range;
-}
-
-double Renderer::lightTexel(const Bounds& translucent, int resolution, bool finest) const {
-  double texel = 0.0;
-  if (translucent.empty()) return texel;
-  Bounds all = scene_.bounds(false);
-  for (const SsLightDesc& light : scene_.lights())
-    for (const LightView& view : lightViews(light, translucent, all, resolution)) {
-      double size = light.type == SS_LIGHT_SUN
-                        ? view.shadowTexelSize
-                        : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
-      size = std::max(size, 1e-12);
-      texel = texel == 0.0 ? size : finest ? std::min(texel, size) : std::max(texel, size);
-    }
-  return texel;
-}
-
-double Renderer::texelsPerRangeFor(double targetError) {
-  // The error the irradiance sampling adds, over what the finest buffer leaves, is at most
-  // 1 % * (texels per R_P / 1.5) ^ -2 on every example scene (bench/tradeoff.py --sweep auto;
-  // docs/AUTO.md), so a target t needs 1.5 * sqrt(1 % / t) texels per R_P.
-  constexpr double kModelError = 0.01, kModelTexels = 1.5, kModelPower = 2.0;
-  return kModelTexels * std::pow(kModelError / targetError, 1.0 / kModelPower);
-}
-
-int Renderer::chooseResolution(const Bounds& translucent) const {
-  // Texels grow with 1 / resolution, so one probe gives the texels per R_P at every
-  // resolution. The rungs step by 1.33-1.5 in texels across (about sqrt(2)), about 2 in work.
-  constexpr int kProbe = 512;
-  static constexpr int kRungs[] = {128, 192, 256, 384, 512, 768, 1024, 1536, 2048};
-  int most = std::min(kAutoResolutionMax, int(maxTextureSize_));
-  double range = shortestRange(), texel = lightTexel(translucent, kProbe, false);
-  if (!(range > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
-  double needed = kProbe * texelsPerRangeFor(settings_.target_error) * texel / range;
-  for (int rung : kRungs)
-    if (rung >= needed && rung <= most) return std::max(rung, kAutoResolutionMin);
-  return most;
-}
-
-Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& translucent, int resolution,
-                                        bool adaptive, bool multires) const {
-  Levels levels;
-  int maxIrradiance = 1, maxSplat = 1;  // while the coarsest level keeps a texel / pixel
-  // (and while each level halves the one above exactly: 192 keeps 7 levels, down to 3 x 3)
-  while (maxIrradiance < 8 && (resolution >> maxIrradiance) >= 1 && resolution % (1 << maxIrradiance) == 0)
-    ++maxIrradiance;
-  while (maxSplat < 8 && (std::max(width, height) >> maxSplat) >= 1) ++maxSplat;
-  if (settings_.levels > 0) {
-    levels.irradiance = adaptive ? std::min(settings_.levels, maxIrradiance) : 1;
-    levels.splat = multires ? std::min(settings_.levels, maxSplat) : 1;
-    return levels;
-  }
-  if (translucent.empty()) return levels;
-  double rangeMin = shortestRange(), rangeMax = 0.0;  // R_P over the translucent materials' channels
-  for (const MaterialEntry& m : scene_.denseMaterials()) {
-    if (!m.kernel) continue;
-    for (double r : m.kernel->effectiveRange()) rangeMax = std::max(rangeMax, r);
-  }
-  if (!(rangeMax > 0.0)) return levels;
-  auto clampLevels = [](double log2Ratio, int most) {
-    return std::clamp(1 + int(std::floor(std::max(log2Ratio, 0.0))), 1, most);
-  };
-  if (adaptive) {
-    // The finest texel any light view puts on the translucent objects, and the coarsest
-    // level at which such a texel, facing the light, could still be fine enough (eq. 11).
-    double texel = lightTexel(translucent, resolution, true);
-    if (texel > 0.0) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
-  }
-  if (multires) {
-    // The coarsest splatting level keeps kCoarsestPixelsPerRange pixels per R_P (the longest
-    // channel's) at the translucent objects' nearest depth. It takes the profile's tail beyond
-    // R_P, a ring 0.8 R_P wide: coarser than that, upsampling blurs the ring across
-    // silhouettes and the error grows while the work hardly falls, since with eq. 14's
-    // epsilon the finest level keeps most of [0, R_P) anyway (docs/MULTIRES.md).
-    const SsCameraDesc& camera = scene_.camera();
-    glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
-    glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
-    double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
-    double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
-    double pixel = extent / double(height);
-    levels.splat = clampLevels(std::log2(rangeMax / (kCoarsestPixelsPerRange * pixel)), maxSplat);
-  }
-  return levels;
 }
 
 void Renderer::renderReference(int width, int height, float* rgba) {

@@ -16,14 +16,8 @@ class Renderer {
   static constexpr int kDefaultLevels = 0;  // automatic
   static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f, kDefaultEpsilon = 0.001f;
   static constexpr float kDefaultLambda = 8.0f;
-  // Automatic levels: pixels per R_P the coarsest splatting level keeps (chooseLevels).
-  static constexpr double kCoarsestPixelsPerRange = 8.0;
-  // Automatic irradiance resolution (docs/AUTO.md).
+  // Automatic irradiance resolution (pipeline/auto_quality.h, docs/AUTO.md).
   static constexpr float kDefaultTargetError = 0.01f;
-  static constexpr int kAutoResolutionMin = 128, kAutoResolutionMax = 2048;
-  // Irradiance texels across the shortest R_P an automatic resolution gives for a target
-  // relative RMSE: the error model fitted on the example scenes (docs/AUTO.md).
-  static double texelsPerRangeFor(double targetError);
   Renderer();
   Scene& scene() { return scene_; }
   const Scene& scene() const { return scene_; }
@@ -43,17 +37,6 @@ class Renderer {
   // Coverage figures of the frame for SsStats (tests and the UI read them).
   void countCoverage(int width, int height, const float* rgba);
   void renderReference(int width, int height, float* rgba);
-  struct Levels {
-    int irradiance = 1, splat = 1;
-  };
-  Levels chooseLevels(int width, int height, const Bounds& translucent, int resolution, bool adaptive,
-                      bool multires) const;
-  // The shortest effective range R_P over the translucent materials' channels (0: none).
-  double shortestRange() const;
-  // The world size of the finest (finest = true) or coarsest texel the light views put on
-  // the translucent objects at a resolution (0: no light).
-  double lightTexel(const Bounds& translucent, int resolution, bool finest) const;
-  int chooseResolution(const Bounds& translucent) const;
 
   Scene scene_;
   GpuScene gpuScene_;  // follows scene_ (its mesh observer)

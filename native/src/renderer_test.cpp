@@ -6,6 +6,7 @@
 
 #include "material/dipole.h"
 #include "material/splat_kernel.h"
+#include "pipeline/auto_quality.h"
 #include "renderer.h"
 #include "scene.h"
 #include "subsplat/subsplat.h"
@@ -266,11 +267,11 @@ TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
     SsStats stats = renderAuto(0.0f);
     std::printf("%.0f mm per unit: %d², %.2f texels per R_P\n", mmPerUnit, stats.irradiance_resolution,
                 stats.texels_per_range);
-    EXPECT_GE(stats.irradiance_resolution, Renderer::kAutoResolutionMin);
-    EXPECT_LE(stats.irradiance_resolution, Renderer::kAutoResolutionMax);
+    EXPECT_GE(stats.irradiance_resolution, kAutoResolutionMin);
+    EXPECT_LE(stats.irradiance_resolution, kAutoResolutionMax);
     EXPECT_GE(stats.irradiance_resolution, previous) << mmPerUnit;
-    if (stats.irradiance_resolution > Renderer::kAutoResolutionMin && stats.irradiance_resolution < Renderer::kAutoResolutionMax)
-      EXPECT_GE(stats.texels_per_range, Renderer::texelsPerRangeFor(Renderer::kDefaultTargetError) * 0.999);
+    if (stats.irradiance_resolution > kAutoResolutionMin && stats.irradiance_resolution < kAutoResolutionMax)
+      EXPECT_GE(stats.texels_per_range, texelsPerRangeFor(Renderer::kDefaultTargetError) * 0.999);
     if (first == 0) first = stats.irradiance_resolution;
     previous = stats.irradiance_resolution;
   }
