@@ -1,9 +1,9 @@
 // Splat accumulation (eq. 17): adds the accumulated exitance of level k + 1,
 // upsampled with bilinear, depth and material weights, to level k. Pixels of
 // another object get no weight (light does not scatter between objects).
-uniform sampler2D coarseExitance;           // level k + 1, already accumulated
-uniform sampler2D splattingPositionObject;  // the median-depth hierarchy
-uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_COARSE_EXITANCE) uniform sampler2D coarseExitance;           // level k + 1, already accumulated
+layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;  // the median-depth hierarchy
+layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 uniform int fineLevel;
 uniform ivec2 coarseSize;
 uniform vec3 cameraPosition;

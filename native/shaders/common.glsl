@@ -9,13 +9,13 @@ struct Material {
   vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), mm per scene unit
   uvec4 profileMap;    // heterogeneous: offset into profileMaps, width, height (0: none); the material's first entry
 };
-layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = STORAGE_MATERIALS) readonly buffer Materials { Material materials[]; };
 
 bool isTranslucent(int m) { return m >= 0 && materials[m].baseColorKind.w > 0.5; }
 
 // The entry of a surface point of material m (its first entry) at texture
 // coordinate uv: the nearest texel of the material's profile map, repeating.
-uniform usamplerBuffer profileMaps;
+layout(binding = UNIT_PROFILE_MAPS) uniform usamplerBuffer profileMaps;
 int profileEntry(int m, vec2 uv, bool hasUv) {
   if (m < 0) return m;
   uvec4 map = materials[m].profileMap;
@@ -41,18 +41,18 @@ uniform mat4 lightViewProj;
 uniform vec3 lightPosition;   // point and spot
 uniform vec3 lightDirection;  // direction the light travels (spot axis, sun)
 uniform vec3 lightRadiant;    // colour x (intensity W/sr | sun irradiance W/m^2)
-uniform int lightType;        // 0 point, 1 spot, 2 sun
+uniform int lightType;        // LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN (gl/bindings.h)
 uniform float lightCosHalfSpot, lightSpotSmooth;
 
 // Direction towards the light and the irradiance a surface facing it gets.
 vec3 towardsLight(vec3 p) {
-  return lightType == 2 ? -lightDirection : normalize(lightPosition - p);
+  return lightType == LIGHT_SUN ? -lightDirection : normalize(lightPosition - p);
 }
 vec3 irradianceFacingLight(vec3 p) {
-  if (lightType == 2) return lightRadiant;
+  if (lightType == LIGHT_SUN) return lightRadiant;
   vec3 d = lightPosition - p;
   vec3 e = lightRadiant / max(dot(d, d), 1e-20);
-  if (lightType == 1) {
+  if (lightType == LIGHT_SPOT) {
     // Cycles' spot attenuation (kernel/light/spot.h in 3.x): the cosine to
     // the axis, cut at the cone and smoothed over the blend region.
     float c = dot(-normalize(d), lightDirection);

@@ -1,8 +1,8 @@
 // Direct light of one light view: diffuse for opaque surfaces, specular for
 // every surface, shadowed by the view's irradiance buffer.
-uniform sampler2D splattingPositionObject;
-uniform sampler2D splattingNormalMaterial;
-uniform sampler2D irradianceLightDepth;
+layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
+layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;
@@ -31,7 +31,7 @@ void main() {
   if (nl <= 0.0) discard;
 
   // Does this view own the pixel, and does the light reach it?
-  float texel = lightType == 2 ? shadowTexelSize
+  float texel = lightType == LIGHT_SUN ? shadowTexelSize
                                : shadowTexelSize * distance(p, lightPosition);
   vec3 offset = p + n * (1.5 * texel);
   vec4 clip = lightViewProj * vec4(offset, 1.0);
@@ -41,7 +41,7 @@ void main() {
   if (inside) {
     ivec2 t = clamp(ivec2((ndc.xy * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
     float stored = texelFetch(irradianceLightDepth, t, 0).r;
-    float depth = lightType == 2 ? dot(offset, lightDirection) : distance(offset, lightPosition);
+    float depth = lightType == LIGHT_SUN ? dot(offset, lightDirection) : distance(offset, lightPosition);
     visibility = depth <= stored + 2.0 * texel ? 1.0 : 0.0;
   } else if (unshadowedOutside == 0) {
     discard;

@@ -1,9 +1,9 @@
 // Eq. 7: L = F_t(w_o) / pi * B(x_o) for translucent surfaces, plus the direct
 // light gathered before; the background where no surface was hit.
-uniform sampler2D splattingPositionObject;
-uniform sampler2D splattingNormalMaterial;
-uniform sampler2D exitanceBuffer;
-uniform sampler2D directRadiance;
+layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
+layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_EXITANCE_BUFFER) uniform sampler2D exitanceBuffer;
+layout(binding = UNIT_DIRECT_RADIANCE) uniform sampler2D directRadiance;
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;

@@ -4,7 +4,7 @@
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 surfaceUv;
-uniform usamplerBuffer triangleMaterials;
+layout(binding = UNIT_TRIANGLE_MATERIALS) uniform usamplerBuffer triangleMaterials;
 uniform int meshHasUvs;
 uniform float objectIndex;
 uniform int resolution;
@@ -55,7 +55,7 @@ void main() {
   // Area of the texel projected onto the plane facing the light, and flux.
   vec3 flux;
   float perpendicularArea;  // texel area on the plane facing the light
-  if (lightType == 2) {
+  if (lightType == LIGHT_SUN) {
     flux = lightRadiant * orthoTexelArea;
     perpendicularArea = orthoTexelArea;
     lightDepth = dot(worldPosition, lightDirection);

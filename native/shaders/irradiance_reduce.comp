@@ -10,19 +10,19 @@
 // centroid of the second profile's parts (the split, irradiance_buffer.frag);
 // eq. 11 checks the texel against the shorter range of the two (splat.vert).
 layout(local_size_x = 8, local_size_y = 8) in;
-uniform sampler2D finePositionMaterial;
-uniform sampler2D fineFluxFootprint;
-uniform sampler2D fineNormalObject;
-uniform sampler2D fineDepthRange;  // rg: min, max; at level 0 the light depth (r)
-uniform sampler2D fineProfileSplit;  // when profileSplits != 0
+layout(binding = UNIT_FINE_POSITION_MATERIAL) uniform sampler2D finePositionMaterial;
+layout(binding = UNIT_FINE_FLUX_FOOTPRINT) uniform sampler2D fineFluxFootprint;
+layout(binding = UNIT_FINE_NORMAL_OBJECT) uniform sampler2D fineNormalObject;
+layout(binding = UNIT_FINE_DEPTH_RANGE) uniform sampler2D fineDepthRange;  // rg: min, max; at level 0 the light depth (r)
+layout(binding = UNIT_FINE_PROFILE_SPLIT) uniform sampler2D fineProfileSplit;  // when profileSplits != 0
 uniform int profileSplits;
 uniform int fineLevel;
 uniform ivec2 coarseSize;
-layout(rgba32f, binding = 0) writeonly uniform image2D coarsePositionMaterial;
-layout(rgba32f, binding = 1) writeonly uniform image2D coarseFluxFootprint;
-layout(rgba32f, binding = 2) writeonly uniform image2D coarseNormalObject;
-layout(rg32f, binding = 3) writeonly uniform image2D coarseDepthRange;
-layout(rgba16f, binding = 4) writeonly uniform image2D coarseProfileSplit;
+layout(rgba32f, binding = IMAGE_COARSE_POSITION_MATERIAL) writeonly uniform image2D coarsePositionMaterial;
+layout(rgba32f, binding = IMAGE_COARSE_FLUX_FOOTPRINT) writeonly uniform image2D coarseFluxFootprint;
+layout(rgba32f, binding = IMAGE_COARSE_NORMAL_OBJECT) writeonly uniform image2D coarseNormalObject;
+layout(rg32f, binding = IMAGE_COARSE_DEPTH_RANGE) writeonly uniform image2D coarseDepthRange;
+layout(rgba16f, binding = IMAGE_COARSE_PROFILE_SPLIT) writeonly uniform image2D coarseProfileSplit;
 void main() {
   ivec2 c = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(c, coarseSize))) return;

@@ -3,7 +3,7 @@ flat in int debugLevel;
 flat in vec3 debugPosition;
 flat in float debugObject;
 flat in float debugReach;
-uniform sampler2D splattingPositionObject;
+layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(location = 0) out vec4 colour;
 const vec3 kLevelColours[8] = vec3[8](vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(1, 1, 0),
                                       vec3(1, 0, 1), vec3(0, 1, 1), vec3(1, 1, 1), vec3(1, 0.5, 0));

@@ -10,10 +10,10 @@ flat in int splatMaterial;
 flat in float splatKernelRow;
 flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
 uniform int splatLevel;
-uniform sampler2D splattingPositionObject;
-uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
+layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 uniform int pairProfiles;       // non-zero when some object has several translucent profiles
-uniform sampler2DArray splatKernels;
+layout(binding = UNIT_SPLAT_KERNELS) uniform sampler2DArray splatKernels;
 uniform vec2 kernelTableSize;   // (distance samples, footprint samples)
 uniform float footprintReach;   // x sigma
 uniform vec2 kernelLog2Range;   // table rows: log2(sigma / support) at first and last

@@ -24,7 +24,7 @@ uniform vec2 kernelLog2Range;  // table rows: log2(sigma / support) at first and
 uniform int splatLevel;
 uniform int splatLevels;
 uniform float levelHeight[8];     // pixel rows of each splatting level
-uniform sampler2D minimalRadius;  // R-bar over log2 T, one row per kernel layer
+layout(binding = UNIT_MINIMAL_RADIUS) uniform sampler2D minimalRadius;  // R-bar over log2 T, one row per kernel layer
 uniform vec2 minimalRadiusLog2T;  // log2 T at the first and last column
 uniform float kernelLayers;
 flat out vec2 splatRange;         // [R_min, R_max) of this level

@@ -7,11 +7,11 @@
 // it is selected when no ancestor is valid and it is valid itself or at level 0.
 // A texel that shows two profiles (its split) must be fine enough for both.
 // Each level-0 texel is therefore covered by exactly one selected sample.
-uniform sampler2D irradiancePositionMaterial;
-uniform sampler2D irradianceFluxFootprint;
-uniform sampler2D irradianceNormalObject;
-uniform sampler2D irradianceDepthRange;  // levels >= 1
-uniform sampler2D irradianceProfileSplit;  // when profileSplits != 0 (pipeline/buffers.h)
+layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
+layout(binding = UNIT_IRRADIANCE_FLUX_FOOTPRINT) uniform sampler2D irradianceFluxFootprint;
+layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
+layout(binding = UNIT_IRRADIANCE_DEPTH_RANGE) uniform sampler2D irradianceDepthRange;  // levels >= 1
+layout(binding = UNIT_IRRADIANCE_PROFILE_SPLIT) uniform sampler2D irradianceProfileSplit;  // when profileSplits != 0 (pipeline/buffers.h)
 uniform int profileSplits;
 uniform int resolution;
 uniform int levels;              // 1: BRUTE
@@ -20,7 +20,7 @@ uniform float z0;                // depth-range threshold, scene units
 uniform float alpha;             // eq. 11's scale
 uniform float shadowTexelSize;   // level-0 texel: absolute (sun) or at distance 1
 uniform int splatLevel;          // selections are counted in the pass of splatting level 0
-layout(std430, binding = 1) buffer SelectionCounts { uint selected[8]; };
+layout(std430, binding = STORAGE_SELECTION_COUNTS) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {
   vec3 position;
   vec3 flux;
@@ -39,7 +39,7 @@ bool valid(int level, ivec2 texel) {
   if (range.y - range.x >= z0) return false;
   vec3 n = texelFetch(irradianceNormalObject, texel, level).xyz;
   float nl = max(abs(dot(n, towardsLight(pm.xyz))), 1e-3);  // grazing: finest level, never infinite
-  float texel0 = lightType == 2 ? shadowTexelSize : shadowTexelSize * distance(pm.xyz, lightPosition);
+  float texel0 = lightType == LIGHT_SUN ? shadowTexelSize : shadowTexelSize * distance(pm.xyz, lightPosition);
   float rangeP = materials[m].ranges.z;
   if (profileSplits != 0) {
     int code = int(texelFetch(irradianceProfileSplit, texel, level).w + 0.5);

@@ -2,7 +2,7 @@
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 surfaceUv;
-uniform usamplerBuffer triangleMaterials;
+layout(binding = UNIT_TRIANGLE_MATERIALS) uniform usamplerBuffer triangleMaterials;
 uniform int meshHasUvs;
 uniform float objectIndex;
 uniform vec3 cameraPosition;

@@ -3,14 +3,14 @@
 // children (the lower median of the surface children), so coarse pixels lie on
 // real surfaces and sharp features survive, unlike an average.
 layout(local_size_x = 8, local_size_y = 8) in;
-uniform sampler2D finePositionObject;
-uniform sampler2D fineNormalMaterial;
+layout(binding = UNIT_FINE_POSITION_OBJECT) uniform sampler2D finePositionObject;
+layout(binding = UNIT_FINE_NORMAL_MATERIAL) uniform sampler2D fineNormalMaterial;
 uniform int fineLevel;
 uniform ivec2 fineSize, coarseSize;
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
-layout(rgba32f, binding = 0) writeonly uniform image2D coarsePositionObject;
-layout(rgba32f, binding = 1) writeonly uniform image2D coarseNormalMaterial;
+layout(rgba32f, binding = IMAGE_COARSE_POSITION_OBJECT) writeonly uniform image2D coarsePositionObject;
+layout(rgba32f, binding = IMAGE_COARSE_NORMAL_MATERIAL) writeonly uniform image2D coarseNormalMaterial;
 void main() {
   ivec2 c = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(c, coarseSize))) return;

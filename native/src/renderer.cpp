@@ -185,7 +185,7 @@ void Renderer::render(int width, int height, float* rgba) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 
   uploadMaterials();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, materialBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialBuffer_.id());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <mutex>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "gl/bindings.h"
 #include "gl/shader_sources.h"
 #include "util/error.h"
 
@@ -220,7 +222,7 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
 static GLuint compileShader(GLenum type, const std::string& name) {
   const char* source = shaderSource(name);
   if (!source) fail(SS_INTERNAL_ERROR, "no embedded shader named " + name);
-  std::string header = "#version 430 core\n";
+  std::string header = "#version 430 core\n" + glslBindingDefines();
   std::string include = shaderSource("common.glsl");
   std::string full = header + include + "\n#line 1\n" + source;
   const char* text = full.c_str();
@@ -304,30 +306,35 @@ StateGuard::StateGuard() {
   glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &arrayBuffer_);
   glGetIntegerv(GL_UNIFORM_BUFFER_BINDING, &uniformBuffer_);
   glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &shaderStorageBuffer_);
-  for (GLuint i = 0; i < kStorageBindings; ++i) {
-    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, i, &storageBinding_[i]);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, i, &storageStart_[i]);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, i, &storageSize_[i]);
+  for (size_t i = 0; i < std::size(kStorageBindings); ++i) {
+    GLuint b = GLuint(kStorageBindings[i]);
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, b, &storage_[i].name);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, b, &storage_[i].start);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, b, &storage_[i].size);
   }
-  for (GLuint i = 0; i < kImageUnits; ++i) {
-    glGetIntegeri_v(GL_IMAGE_BINDING_NAME, i, &images_[i].name);
-    glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, i, &images_[i].level);
-    glGetIntegeri_v(GL_IMAGE_BINDING_LAYERED, i, &images_[i].layered);
-    glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, i, &images_[i].layer);
-    glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, i, &images_[i].access);
-    glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, i, &images_[i].format);
+  for (size_t i = 0; i < std::size(kImageUnits); ++i) {
+    GLuint u = GLuint(kImageUnits[i]);
+    glGetIntegeri_v(GL_IMAGE_BINDING_NAME, u, &images_[i].name);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, u, &images_[i].level);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LAYERED, u, &images_[i].layered);
+    glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, u, &images_[i].layer);
+    glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, u, &images_[i].access);
+    glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, u, &images_[i].format);
   }
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pixelPackBuffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &pixelUnpackBuffer_);
   glGetIntegerv(GL_TEXTURE_BUFFER_BINDING, &textureBufferBuffer_);
   glGetIntegerv(GL_ACTIVE_TEXTURE, &activeTexture_);
-  for (int unit = 0; unit < kUnits; ++unit) {
-    glActiveTexture(GL_TEXTURE0 + unit);
-    glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture2D_[unit]);
-    glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &texture2DArray_[unit]);
-    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &textureBuffer_[unit]);
+  for (size_t i = 0; i < std::size(kTextureUnits); ++i) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + kTextureUnits[i]));
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &textures_[i].texture2D);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &textures_[i].texture2DArray);
+    glGetIntegerv(GL_TEXTURE_BINDING_BUFFER, &textures_[i].textureBuffer);
+    glGetIntegerv(GL_SAMPLER_BINDING, &textures_[i].sampler);
   }
-  glActiveTexture(GLenum(activeTexture_));
+  // Left on a unit of the table, so that the binds of uploads and read-backs (on the active
+  // unit) land where the destructor restores them.
+  glActiveTexture(GLenum(GL_TEXTURE0 + kTextureUnits[0]));
   glGetIntegerv(GL_VIEWPORT, viewport_);
   glGetIntegerv(GL_SCISSOR_BOX, scissorBox_);
   glGetIntegerv(GL_PACK_ALIGNMENT, &packAlignment_);
@@ -370,27 +377,30 @@ StateGuard::~StateGuard() {
   glBindVertexArray(GLuint(vertexArray_));
   glBindBuffer(GL_ARRAY_BUFFER, GLuint(arrayBuffer_));
   glBindBuffer(GL_UNIFORM_BUFFER, GLuint(uniformBuffer_));
-  for (GLuint i = 0; i < kStorageBindings; ++i) {
-    if (storageBinding_[i] != 0 && storageSize_[i] > 0)
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, i, GLuint(storageBinding_[i]), GLintptr(storageStart_[i]),
-                        GLsizeiptr(storageSize_[i]));
+  for (size_t i = 0; i < std::size(kStorageBindings); ++i) {
+    const StorageBinding& b = storage_[i];
+    if (b.name != 0 && b.size > 0)
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, GLuint(kStorageBindings[i]), GLuint(b.name), GLintptr(b.start),
+                        GLsizeiptr(b.size));
     else
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, GLuint(storageBinding_[i]));
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(kStorageBindings[i]), GLuint(b.name));
   }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(shaderStorageBuffer_));
-  for (GLuint i = 0; i < kImageUnits; ++i) {
+  for (size_t i = 0; i < std::size(kImageUnits); ++i) {
     const ImageUnit& u = images_[i];
-    glBindImageTexture(i, GLuint(u.name), u.level, u.layered ? GL_TRUE : GL_FALSE, u.layer, GLenum(u.access),
-                       GLenum(u.format ? u.format : GL_R8));
+    glBindImageTexture(GLuint(kImageUnits[i]), GLuint(u.name), u.level, u.layered ? GL_TRUE : GL_FALSE, u.layer,
+                       GLenum(u.access), GLenum(u.format ? u.format : GL_R8));
   }
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pixelPackBuffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(pixelUnpackBuffer_));
   glBindBuffer(GL_TEXTURE_BUFFER, GLuint(textureBufferBuffer_));
-  for (int unit = 0; unit < kUnits; ++unit) {
-    glActiveTexture(GL_TEXTURE0 + unit);
-    glBindTexture(GL_TEXTURE_2D, GLuint(texture2D_[unit]));
-    glBindTexture(GL_TEXTURE_2D_ARRAY, GLuint(texture2DArray_[unit]));
-    glBindTexture(GL_TEXTURE_BUFFER, GLuint(textureBuffer_[unit]));
+  for (size_t i = 0; i < std::size(kTextureUnits); ++i) {
+    const TextureUnit& u = textures_[i];
+    glActiveTexture(GLenum(GL_TEXTURE0 + kTextureUnits[i]));
+    glBindTexture(GL_TEXTURE_2D, GLuint(u.texture2D));
+    glBindTexture(GL_TEXTURE_2D_ARRAY, GLuint(u.texture2DArray));
+    glBindTexture(GL_TEXTURE_BUFFER, GLuint(u.textureBuffer));
+    glBindSampler(GLuint(kTextureUnits[i]), GLuint(u.sampler));
   }
   glActiveTexture(GLenum(activeTexture_));
   glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);

@@ -5,8 +5,11 @@
 
 #include <atomic>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <utility>
+
+#include "gl/bindings.h"
 
 namespace subsplat::gl {
 
@@ -144,17 +147,19 @@ class StateGuard {
  private:
   GLint drawFramebuffer_ = 0, readFramebuffer_ = 0, program_ = 0, vertexArray_ = 0;
   GLint arrayBuffer_ = 0, activeTexture_ = 0, viewport_[4] = {}, scissorBox_[4] = {};
-  static constexpr int kUnits = 9;  // texture units the pipeline binds
-  GLint texture2D_[kUnits] = {}, texture2DArray_[kUnits] = {}, textureBuffer_[kUnits] = {};
+  // The units and bindings of the binding table (gl/bindings.h): what the passes bind.
+  struct TextureUnit {
+    GLint texture2D = 0, texture2DArray = 0, textureBuffer = 0, sampler = 0;
+  } textures_[std::size(kTextureUnits)];
   GLint uniformBuffer_ = 0;
   GLint shaderStorageBuffer_ = 0;
-  static constexpr int kStorageBindings = 2;  // indexed SSBO bindings the pipeline uses
-  GLint storageBinding_[kStorageBindings] = {};
-  GLint64 storageStart_[kStorageBindings] = {}, storageSize_[kStorageBindings] = {};
-  static constexpr int kImageUnits = 4;  // image units the reductions write through
+  struct StorageBinding {
+    GLint name = 0;
+    GLint64 start = 0, size = 0;
+  } storage_[std::size(kStorageBindings)];
   struct ImageUnit {
     GLint name = 0, level = 0, layered = 0, layer = 0, access = GL_READ_ONLY, format = GL_R8;
-  } images_[kImageUnits];
+  } images_[std::size(kImageUnits)];
   GLint packAlignment_ = 4, unpackAlignment_ = 4, packRowLength_ = 0, unpackRowLength_ = 0;
   GLint blendSrcRgb_ = 0, blendDstRgb_ = 0, blendSrcAlpha_ = 0, blendDstAlpha_ = 0;
   GLint blendEqRgb_ = 0, blendEqAlpha_ = 0, depthFunc_ = 0, cullFaceMode_ = 0;

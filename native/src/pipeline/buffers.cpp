@@ -12,10 +12,10 @@ namespace subsplat {
 
 GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
 
-void bindTexture(int unit, GLenum target, GLuint texture, GLuint program, const char* name) {
-  glActiveTexture(GL_TEXTURE0 + unit);
+void bindTexture(int unit, GLenum target, GLuint texture) {
+  glActiveTexture(GLenum(GL_TEXTURE0 + unit));
   glBindTexture(target, texture);
-  glUniform1i(uniform(program, name), unit);
+  glBindSampler(GLuint(unit), 0);  // the texture's own filtering and wrapping, not the host's sampler
 }
 
 void setLightUniforms(GLuint program, const LightView& view) {
@@ -36,7 +36,7 @@ void setLightUniforms(GLuint program, const LightView& view) {
 
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj) {
   glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
-  bindTexture(8, GL_TEXTURE_BUFFER, gpu.profileMaps(), program, "profileMaps");
+  bindTexture(gl::UNIT_PROFILE_MAPS, GL_TEXTURE_BUFFER, gpu.profileMaps());
   for (const auto& [id, mesh] : scene.meshes()) {
     glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(mesh.objectToWorld)));
     glUniformMatrix4fv(uniform(program, "objectToWorld"), 1, GL_FALSE,
@@ -45,7 +45,7 @@ void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const g
     glUniform1f(uniform(program, "objectIndex"), float(mesh.index));
     glUniform1i(uniform(program, "meshHasUvs"), mesh.hasUvs() ? 1 : 0);
     const GpuMesh& buffers = gpu.mesh(id);
-    bindTexture(7, GL_TEXTURE_BUFFER, buffers.triangleMaterials.id(), program, "triangleMaterials");
+    bindTexture(gl::UNIT_TRIANGLE_MATERIALS, GL_TEXTURE_BUFFER, buffers.triangleMaterials.id());
     glBindVertexArray(buffers.vertexArray.id());
     glDrawElements(GL_TRIANGLES, GLsizei(3 * mesh.triangleCount), GL_UNSIGNED_INT, nullptr);
   }
@@ -90,21 +90,21 @@ void IrradianceBuffer::buildHierarchy() {
   glUseProgram(p);
   for (int fine = 0; fine + 1 < levels_; ++fine) {
     int size = std::max(resolution_ >> (fine + 1), 1);
-    bindTexture(0, GL_TEXTURE_2D, positionMaterial_.id(), p, "finePositionMaterial");
-    bindTexture(1, GL_TEXTURE_2D, fluxFootprint_.id(), p, "fineFluxFootprint");
-    bindTexture(2, GL_TEXTURE_2D, normalObject_.id(), p, "fineNormalObject");
-    bindTexture(3, GL_TEXTURE_2D, fine == 0 ? lightDepth_.id() : depthRange_.id(), p, "fineDepthRange");
+    bindTexture(gl::UNIT_FINE_POSITION_MATERIAL, GL_TEXTURE_2D, positionMaterial_.id());
+    bindTexture(gl::UNIT_FINE_FLUX_FOOTPRINT, GL_TEXTURE_2D, fluxFootprint_.id());
+    bindTexture(gl::UNIT_FINE_NORMAL_OBJECT, GL_TEXTURE_2D, normalObject_.id());
+    bindTexture(gl::UNIT_FINE_DEPTH_RANGE, GL_TEXTURE_2D, fine == 0 ? lightDepth_.id() : depthRange_.id());
     glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
     if (profileSplits_) {
-      bindTexture(4, GL_TEXTURE_2D, profileSplit_.id(), p, "fineProfileSplit");
-      glBindImageTexture(4, profileSplit_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+      bindTexture(gl::UNIT_FINE_PROFILE_SPLIT, GL_TEXTURE_2D, profileSplit_.id());
+      glBindImageTexture(gl::IMAGE_COARSE_PROFILE_SPLIT, profileSplit_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     }
     glUniform1i(uniform(p, "fineLevel"), fine);
     glUniform2i(uniform(p, "coarseSize"), size, size);
-    glBindImageTexture(0, positionMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, fluxFootprint_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(2, normalObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(3, depthRange_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glBindImageTexture(gl::IMAGE_COARSE_POSITION_MATERIAL, positionMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_FLUX_FOOTPRINT, fluxFootprint_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_NORMAL_OBJECT, normalObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_DEPTH_RANGE, depthRange_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
     glDispatchCompute(GLuint((size + 7) / 8), GLuint((size + 7) / 8), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
@@ -167,13 +167,13 @@ void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
   for (int fine = 0; fine + 1 < levels_; ++fine) {
     int fw = std::max(width_ >> fine, 1), fh = std::max(height_ >> fine, 1);
     int cw = std::max(width_ >> (fine + 1), 1), ch = std::max(height_ >> (fine + 1), 1);
-    bindTexture(0, GL_TEXTURE_2D, positionObject_.id(), p, "finePositionObject");
-    bindTexture(1, GL_TEXTURE_2D, normalMaterial_.id(), p, "fineNormalMaterial");
+    bindTexture(gl::UNIT_FINE_POSITION_OBJECT, GL_TEXTURE_2D, positionObject_.id());
+    bindTexture(gl::UNIT_FINE_NORMAL_MATERIAL, GL_TEXTURE_2D, normalMaterial_.id());
     glUniform1i(uniform(p, "fineLevel"), fine);
     glUniform2i(uniform(p, "fineSize"), fw, fh);
     glUniform2i(uniform(p, "coarseSize"), cw, ch);
-    glBindImageTexture(0, positionObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, normalMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_POSITION_OBJECT, positionObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_NORMAL_MATERIAL, normalMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(GLuint((cw + 7) / 8), GLuint((ch + 7) / 8), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }

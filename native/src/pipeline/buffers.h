@@ -15,7 +15,9 @@ namespace subsplat {
 // Uniform helpers shared by the passes.
 GLint uniform(GLuint program, const char* name);
 void setLightUniforms(GLuint program, const LightView& view);
-void bindTexture(int unit, GLenum target, GLuint texture, GLuint program, const char* name);
+// Binds `texture` on a unit of the binding table (gl/bindings.h), which the shaders name, and
+// no sampler object there (a host's sampler would override the texture's filtering).
+void bindTexture(int unit, GLenum target, GLuint texture);
 
 // Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj);

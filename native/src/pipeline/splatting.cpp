@@ -95,13 +95,13 @@ void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightVi
   glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
   glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
   glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
-  bindTexture(0, GL_TEXTURE_2D, irradiance.positionMaterial(), p, "irradiancePositionMaterial");
-  bindTexture(1, GL_TEXTURE_2D, irradiance.fluxFootprint(), p, "irradianceFluxFootprint");
-  bindTexture(2, GL_TEXTURE_2D, irradiance.normalObject(), p, "irradianceNormalObject");
-  bindTexture(3, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
-  bindTexture(5, GL_TEXTURE_2D, irradiance.depthRange(), p, "irradianceDepthRange");
+  bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, irradiance.positionMaterial());
+  bindTexture(gl::UNIT_IRRADIANCE_FLUX_FOOTPRINT, GL_TEXTURE_2D, irradiance.fluxFootprint());
+  bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, irradiance.normalObject());
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_IRRADIANCE_DEPTH_RANGE, GL_TEXTURE_2D, irradiance.depthRange());
   glUniform1i(uniform(p, "profileSplits"), irradiance.profileSplits() ? 1 : 0);
-  if (irradiance.profileSplits()) bindTexture(8, GL_TEXTURE_2D, irradiance.profileSplit(), p, "irradianceProfileSplit");
+  if (irradiance.profileSplits()) bindTexture(gl::UNIT_IRRADIANCE_PROFILE_SPLIT, GL_TEXTURE_2D, irradiance.profileSplit());
 }
 
 void Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
@@ -115,7 +115,7 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   int levels = selection.levels;
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, counts_.id());  // zeroed by clear(), summed over views
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SELECTION_COUNTS, counts_.id());  // zeroed by clear(), summed over views
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -126,9 +126,9 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   for (int k = 0; k < splatLevels; ++k) heights[k] = float(std::max(height_ >> k, 1));
   glUniform1i(uniform(p, "splatLevels"), splatLevels);
   glUniform1fv(uniform(p, "levelHeight"), 8, heights);
-  bindTexture(4, GL_TEXTURE_2D_ARRAY, kernels.kernels, p, "splatKernels");
-  bindTexture(6, GL_TEXTURE_2D, kernels.minimalRadius, p, "minimalRadius");
-  bindTexture(7, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
+  bindTexture(gl::UNIT_SPLAT_KERNELS, GL_TEXTURE_2D_ARRAY, kernels.kernels);
+  bindTexture(gl::UNIT_MINIMAL_RADIUS, GL_TEXTURE_2D, kernels.minimalRadius);
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
   for (int k = 0; k < splatLevels; ++k) {
@@ -170,8 +170,8 @@ void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting,
   glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
   glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
   glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
-  bindTexture(1, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
-  bindTexture(2, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
@@ -179,7 +179,7 @@ void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting,
   for (int k = levels - 2; k >= 0; --k) {  // coarse to fine: level k += upsampled level k + 1
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
-    bindTexture(0, GL_TEXTURE_2D, exitance_[size_t(k + 1)].id(), p, "coarseExitance");
+    bindTexture(gl::UNIT_COARSE_EXITANCE, GL_TEXTURE_2D, exitance_[size_t(k + 1)].id());
     glUniform1i(uniform(p, "fineLevel"), k);
     glUniform2i(uniform(p, "coarseSize"), std::max(width_ >> (k + 1), 1), std::max(height_ >> (k + 1), 1));
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -230,9 +230,9 @@ void Shading::directLighting(const Scene& scene, const LightView& view,
   glUniform1i(uniform(p, "resolution"), irradiance.resolution());
   glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
   glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
-  bindTexture(0, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
-  bindTexture(1, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
-  bindTexture(2, GL_TEXTURE_2D, irradiance.lightDepth(), p, "irradianceLightDepth");
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -247,10 +247,10 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
   glUniform4fv(uniform(p, "background"), 1, background);
-  bindTexture(0, GL_TEXTURE_2D, splatting.positionObject(), p, "splattingPositionObject");
-  bindTexture(1, GL_TEXTURE_2D, splatting.normalMaterial(), p, "splattingNormalMaterial");
-  bindTexture(2, GL_TEXTURE_2D, exitance, p, "exitanceBuffer");
-  bindTexture(3, GL_TEXTURE_2D, direct_.id(), p, "directRadiance");
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
+  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
