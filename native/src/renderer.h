@@ -33,6 +33,7 @@ class Renderer {
   void readPass(int pass, int width, int height, float* rgba);
 
  private:
+  // Resolves the scene's materials and brings the GPU's copy and the tables up to date.
   void uploadMaterials();
   // Coverage figures of the frame for SsStats (tests and the UI read them).
   void countCoverage(int width, int height, const float* rgba);
@@ -48,11 +49,7 @@ class Renderer {
   SplattingBuffer splatting_;
   Splatting splats_;
   Shading shading_;
-  gl::Buffer materialBuffer_;
-  gl::Texture kernelTable_, minimalRadius_;
-  int kernelLayers_ = 1;
-  float uploadedEpsilon_ = -1.0f;
-  uint64_t uploadedMaterialVersion_ = ~0ull;
+  MaterialTables materialTables_;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;
   ProgressFunction progress_;

@@ -5,6 +5,7 @@
 
 #include "gl/gl.h"
 #include "pipeline/buffers.h"
+#include "pipeline/material_tables.h"
 #include "pipeline/stage_profiler.h"
 
 #include <vector>
@@ -17,13 +18,6 @@ struct Selection {
   int levels = 1;
   float z0 = 0.0f;     // depth-range threshold, scene units
   float alpha = 15.0f;
-};
-
-// The per-material tables the splat shaders read.
-struct KernelTables {
-  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material entry
-  GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
-  int layers = 1;
 };
 
 // Eq. 17's weights.
