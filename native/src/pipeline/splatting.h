@@ -79,7 +79,6 @@ class Shading {
   // Eq. 7 and the background into `target` (RGBA32F, width x height).
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
                     const float background[4]);
-  GLuint result() const { return result_.id(); }
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:
