@@ -67,24 +67,15 @@ void Renderer::uploadMaterials() {
 
 void Renderer::countCoverage(int width, int height, const float* rgba) {
   size_t pixels = size_t(width) * height;
-  std::vector<float> normalMaterial(pixels * 4), exitance(pixels * 4);
-  glBindTexture(GL_TEXTURE_2D, splatting_.normalMaterial());
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, normalMaterial.data());
-  glBindTexture(GL_TEXTURE_2D, splats_.exitance());
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, exitance.data());
-  gl::checkErrors("coverage read-back");
-  const auto& materials = scene_.denseMaterials();
   for (size_t i = 0; i < pixels; ++i) {
     const float* out = rgba + 4 * i;
     if (!std::isfinite(out[0]) || !std::isfinite(out[1]) || !std::isfinite(out[2]) || !std::isfinite(out[3]))
       ++stats_.nonfinite_pixels;
-    int m = int(normalMaterial[4 * i + 3]);
-    if (m < 0 || size_t(m) >= materials.size() || !materials[size_t(m)].kernel) continue;
-    ++stats_.translucent_pixels;
-    const float* b = &exitance[4 * i];
-    bool finite = std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]);
-    if (finite && b[0] + b[1] + b[2] > 0.0f) ++stats_.lit_translucent_pixels;
   }
+  CoverageCounts counts = coverage_.count(splatting_, splats_.exitance(), int(scene_.denseMaterials().size()),
+                                          width, height);
+  stats_.translucent_pixels = counts.translucentPixels;
+  stats_.lit_translucent_pixels = counts.litTranslucentPixels;
 }
 
 void Renderer::render(int width, int height, float* rgba) {

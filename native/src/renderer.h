@@ -2,6 +2,7 @@
 #pragma once
 
 #include "pipeline/buffers.h"
+#include "pipeline/coverage.h"
 #include "pipeline/material_tables.h"
 #include "pipeline/splatting.h"
 #include "pipeline/stage_profiler.h"
@@ -35,7 +36,8 @@ class Renderer {
  private:
   // Resolves the scene's materials and brings the GPU's copy and the tables up to date.
   void uploadMaterials();
-  // Coverage figures of the frame for SsStats (tests and the UI read them).
+  // Coverage figures of the frame for SsStats (tests and the UI read them): non-finite
+  // pixels of the image, translucent and lit translucent pixels counted on the GPU.
   void countCoverage(int width, int height, const float* rgba);
   void renderReference(int width, int height, float* rgba);
 
@@ -49,6 +51,7 @@ class Renderer {
   SplattingBuffer splatting_;
   Splatting splats_;
   Shading shading_;
+  Coverage coverage_;
   MaterialTables materialTables_;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;
