@@ -1,10 +1,12 @@
 // One frame: buffer generation, splatting, shading, read-back.
 #pragma once
 
-#include "pipeline/buffers.h"
 #include "pipeline/coverage.h"
+#include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
+#include "pipeline/shading.h"
 #include "pipeline/splatting.h"
+#include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
 #include "reference/reference_renderer.h"
 #include "scene.h"

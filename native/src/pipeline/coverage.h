@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "gl/gl.h"
-#include "pipeline/buffers.h"
+#include "pipeline/splatting_buffer.h"
 
 namespace subsplat {
 
