@@ -137,7 +137,8 @@ void Renderer::render(int width, int height, float* rgba) {
   gl::checkErrors("buffer allocation");
 
   stats_ = SsStats{};
-  StageProfiler profiler;
+  StageProfiler& profiler = profiler_;
+  profiler.newFrame();
   profiler.begin(SS_STAGE_BUFFERS);
   splatting_.render(scene_, gpuScene_);
   splatting_.buildHierarchy(scene_.camera());

@@ -54,6 +54,7 @@ class Renderer {
   Splatting splats_;
   Shading shading_;
   Coverage coverage_;
+  StageProfiler profiler_;  // its queries are reused by every frame of this context
   MaterialTables materialTables_;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;

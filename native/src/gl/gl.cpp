@@ -214,14 +214,15 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
   if (depthTexture) glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthTexture, 0);
   glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
   GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE)
-    fail(SS_GL_ERROR, "framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%04x", unsigned(status));
+    fail(SS_GL_ERROR, "framebuffer incomplete (status " + std::string(hex) + ")");
+  }
   return framebuffer;
 }
 
-static GLuint compileShader(GLenum type, const std::string& name) {
-  const char* source = shaderSource(name);
-  if (!source) fail(SS_INTERNAL_ERROR, "no embedded shader named " + name);
+static GLuint compileShader(GLenum type, const std::string& name, const char* source) {
   std::string header = "#version 430 core\n" + glslBindingDefines();
   std::string include = shaderSource("common.glsl");
   std::string full = header + include + "\n#line 1\n" + source;
@@ -240,6 +241,12 @@ static GLuint compileShader(GLenum type, const std::string& name) {
     fail(SS_GL_ERROR, "shader " + name + " failed to compile: " + log);
   }
   return shader;
+}
+
+static GLuint compileShader(GLenum type, const std::string& name) {
+  const char* source = shaderSource(name);
+  if (!source) fail(SS_INTERNAL_ERROR, "no embedded shader named " + name);
+  return compileShader(type, name, source);
 }
 
 // Attaches and links the compiled shaders (and deletes them); throws with the info log.
@@ -276,6 +283,12 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
 Program makeComputeProgram(const std::string& compute) {
   Program program(glCreateProgram());
   link(program, {compileShader(GL_COMPUTE_SHADER, compute)}, compute);
+  return program;
+}
+
+Program makeComputeProgramFromSource(const std::string& name, const std::string& source) {
+  Program program(glCreateProgram());
+  link(program, {compileShader(GL_COMPUTE_SHADER, name, source.c_str())}, name);
   return program;
 }
 

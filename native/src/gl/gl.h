@@ -16,14 +16,18 @@ namespace subsplat::gl {
 // GPU memory held by the library's textures and buffers, over all contexts.
 inline std::atomic<uint64_t> heldBytes{0};
 
-// Each kind counts its live objects over all contexts (ssGetResourceCounts: the leak tests), and
+// Each kind counts its live objects over all contexts (ssGetResourceCounts: the leak tests) and
+// the objects ever made (made(): the tests that objects are reused, not made per frame), and
 // each object the GPU memory it holds (gpuBytes, the memory budget).
 template <void (*Delete)(GLuint)>
 class Object {
  public:
   Object() = default;
   explicit Object(GLuint id, uint64_t bytes = 0) : id_(id), bytes_(id ? bytes : 0) {
-    if (id_) live_.fetch_add(1, std::memory_order_relaxed);
+    if (id_) {
+      live_.fetch_add(1, std::memory_order_relaxed);
+      made_.fetch_add(1, std::memory_order_relaxed);
+    }
     heldBytes.fetch_add(bytes_, std::memory_order_relaxed);
   }
   ~Object() { reset(); }
@@ -51,11 +55,12 @@ class Object {
   uint64_t bytes() const { return bytes_; }
   explicit operator bool() const { return id_ != 0; }
   static int64_t live() { return live_.load(std::memory_order_relaxed); }
+  static int64_t made() { return made_.load(std::memory_order_relaxed); }
 
  private:
   GLuint id_ = 0;
   uint64_t bytes_ = 0;
-  inline static std::atomic<int64_t> live_{0};
+  inline static std::atomic<int64_t> live_{0}, made_{0};
 };
 
 // The memory budget (ssSetMemoryBudget): every texture and buffer the library makes is checked
@@ -131,6 +136,8 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
                     const std::string& fragment);
 
 Program makeComputeProgram(const std::string& compute);
+// The same for a compute shader given as source (the tests that run common.glsl's functions).
+Program makeComputeProgramFromSource(const std::string& name, const std::string& source);
 
 // Throws SS_GL_ERROR naming the stage when glGetError reports anything.
 void checkErrors(const char* stage);

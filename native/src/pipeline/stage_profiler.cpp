@@ -15,18 +15,23 @@ static gl::Query newQuery() {
   return gl::Query(id);
 }
 
+void StageProfiler::newFrame() {
+  end();
+  spans_.clear();
+}
+
 void StageProfiler::begin(SsStage stage, int part) {
   end();
-  Span span{stage, part, {}, {}};
+  size_t i = spans_.size();
   if (timers_) {
-    span.time = newQuery();
-    glBeginQuery(GL_TIME_ELAPSED, span.time.id());
+    if (i == times_.size()) times_.push_back(newQuery());
+    glBeginQuery(GL_TIME_ELAPSED, times_[i].id());
   }
   if (statistics_) {
-    span.fragments = newQuery();
-    glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, span.fragments.id());
+    if (i == fragments_.size()) fragments_.push_back(newQuery());
+    glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, fragments_[i].id());
   }
-  spans_.push_back(std::move(span));
+  spans_.push_back({stage, part});
   open_ = true;
 }
 
@@ -39,10 +44,11 @@ void StageProfiler::end() {
 
 void StageProfiler::collect(SsStats& stats) {
   end();
-  for (Span& span : spans_) {
+  for (size_t i = 0; i < spans_.size(); ++i) {
+    const Span& span = spans_[i];
     GLuint64 nanoseconds = 0, fragments = 0;
-    if (span.time) glGetQueryObjectui64v(span.time.id(), GL_QUERY_RESULT, &nanoseconds);
-    if (span.fragments) glGetQueryObjectui64v(span.fragments.id(), GL_QUERY_RESULT, &fragments);
+    if (timers_) glGetQueryObjectui64v(times_[i].id(), GL_QUERY_RESULT, &nanoseconds);
+    if (statistics_) glGetQueryObjectui64v(fragments_[i].id(), GL_QUERY_RESULT, &fragments);
     double ms = double(nanoseconds) * 1e-6;
     stats.stage_ms[span.stage] += ms;
     stats.fragment_invocations[span.stage] += fragments;

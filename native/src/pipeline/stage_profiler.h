@@ -1,7 +1,8 @@
 // GL timer and fragment-invocation queries per pipeline stage. A span may name
 // a part of the splatting stage (a splatting level, or the accumulation), which
 // SsStats reports besides the stage total. Results are read once, in collect(),
-// so the queries never stall the frame.
+// so the queries never stall the frame. One profiler lives per context: its
+// query objects are made once and reused by the spans of every later frame.
 #pragma once
 
 #include <vector>
@@ -16,6 +17,7 @@ class StageProfiler {
   static constexpr int kWhole = -1;         // the stage only
   static constexpr int kAccumulation = 8;   // splatting: eq. 17; 0..7: splatting level k
   StageProfiler();
+  void newFrame();  // forgets the spans of a frame that ended without collect() (an error)
   void begin(SsStage stage, int part = kWhole);  // one span at a time
   void end();
   void collect(SsStats& stats);  // waits for the results, adds them to stats
@@ -24,9 +26,9 @@ class StageProfiler {
   struct Span {
     SsStage stage;
     int part;
-    gl::Query time, fragments;
   };
-  std::vector<Span> spans_;
+  std::vector<Span> spans_;  // span i uses times_[i] and fragments_[i]
+  std::vector<gl::Query> times_, fragments_;  // the pool, as many as the longest frame had spans
   bool timers_ = false, statistics_ = false, open_ = false;
 };
 
