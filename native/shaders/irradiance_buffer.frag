@@ -16,7 +16,7 @@ layout(location = 0) out vec4 positionMaterial;  // xyz, material (-1 opaque)
 layout(location = 1) out vec4 fluxFootprint;     // rgb flux (W), footprint sigma
 layout(location = 2) out vec4 normalObject;      // xyz, object index
 layout(location = 3) out float lightDepth;       // distance along the light's rays
-layout(location = 4) out vec4 profileSplit;      // pipeline/buffers.h: IrradianceBuffer::profileSplit
+layout(location = 4) out vec4 profileSplit;      // pipeline/irradiance_buffer.h: IrradianceBuffer::profileSplit
 
 // Where a profile boundary crosses the texel: the texel's 4 x 4 sub-samples
 // (from the UV and position derivatives) whose profile is another one than

@@ -11,7 +11,7 @@ layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiance
 layout(binding = UNIT_IRRADIANCE_FLUX_FOOTPRINT) uniform sampler2D irradianceFluxFootprint;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(binding = UNIT_IRRADIANCE_DEPTH_RANGE) uniform sampler2D irradianceDepthRange;  // levels >= 1
-layout(binding = UNIT_IRRADIANCE_PROFILE_SPLIT) uniform sampler2D irradianceProfileSplit;  // when profileSplits != 0 (pipeline/buffers.h)
+layout(binding = UNIT_IRRADIANCE_PROFILE_SPLIT) uniform sampler2D irradianceProfileSplit;  // when profileSplits != 0 (pipeline/irradiance_buffer.h)
 uniform int profileSplits;
 uniform int resolution;
 uniform int levels;              // 1: BRUTE

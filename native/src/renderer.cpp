@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pipeline/auto_quality.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -17,6 +18,7 @@ Renderer::Renderer() {
                           std::to_string(epoxy_gl_version() / 10) + "." +
                           std::to_string(epoxy_gl_version() % 10));
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize_);
+  scene_.setMeshObserver(&gpuScene_);
 }
 
 void Renderer::setSettings(const SsSettings& s) {
@@ -59,93 +61,21 @@ void Renderer::setSettings(const SsSettings& s) {
 
 void Renderer::uploadMaterials() {
   scene_.resolveMaterials();
-  if (uploadedMaterialVersion_ == scene_.materialVersion() && materialBuffer_ &&
-      uploadedEpsilon_ == settings_.epsilon)
-    return;
-  const auto& materials = scene_.denseMaterials();
-  std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
-  int layers = 0;
-  uint32_t mapOffset = 0;
-  for (size_t i = 0; i < materials.size(); ++i) {
-    const MaterialEntry& e = materials[i];
-    const SsMaterialDesc& d = e.desc;
-    MaterialGpu& g = gpu[i];
-    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], isTranslucent(d) ? 1.0f : 0.0f},
-                    {d.eta, d.roughness, d.specular, 0.0f},
-                    {0, 0, 0, 0},
-                    {0, 0, 0, uint32_t(e.base)}};
-    if (e.mapped()) {
-      g.profileMap[0] = mapOffset;
-      g.profileMap[1] = uint32_t(e.profiles->width());
-      g.profileMap[2] = uint32_t(e.profiles->height());
-      if (i + 1 == materials.size() || materials[i + 1].base != e.base) mapOffset += uint32_t(e.profiles->map().size());
-    }
-    if (e.kernel) {
-      const SplatKernel& k = *e.kernel;
-      g.optics[3] = float(layers++);
-      g.ranges[0] = float(k.supportRadius());
-      g.ranges[1] = float(std::max({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
-      g.ranges[2] = float(std::min({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
-      g.ranges[3] = d.mm_per_unit;
-    }
-  }
-  materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
-  kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
-                                        std::max(layers, 1), GL_LINEAR);
-  for (size_t i = 0; i < materials.size(); ++i) {
-    if (!materials[i].kernel) continue;
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].optics[3]), SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
-                    GL_RGBA, GL_FLOAT, materials[i].kernel->table().data());
-  }
-  // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change:
-  // over the mean normalised profile of the material's entries (eq. 15, 16),
-  // weighted by how many texels of its map have each.
-  std::vector<float> radii(size_t(SplatKernel::kRadiusTableSize) * std::max(layers, 1), 0.0f);
-  for (size_t first = 0; first < materials.size();) {
-    size_t end = first + 1;
-    while (end < materials.size() && materials[end].base == materials[first].base) ++end;
-    if (materials[first].kernel) {
-      std::vector<std::pair<const SplatKernel*, double>> kernels;
-      for (size_t i = first; i < end; ++i) {
-        const MaterialEntry& e = materials[i];
-        double weight = e.mapped() ? double(e.profiles->texelCounts()[i - first]) : 1.0;
-        kernels.emplace_back(e.kernel.get(), weight);
-      }
-      std::vector<float> row = SplatKernel::minimalRadiusTable(kernels, settings_.epsilon);
-      for (size_t i = first; i < end; ++i)
-        std::copy(row.begin(), row.end(), radii.begin() + size_t(gpu[i].optics[3]) * SplatKernel::kRadiusTableSize);
-    }
-    first = end;
-  }
-  minimalRadius_ = gl::makeTexture2D(GL_R32F, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_LINEAR);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_RED, GL_FLOAT,
-                  radii.data());
-  kernelLayers_ = std::max(layers, 1);
-  gl::checkErrors("material upload");
-  uploadedMaterialVersion_ = scene_.materialVersion();
-  uploadedEpsilon_ = settings_.epsilon;
+  gpuScene_.update(scene_);
+  materialTables_.update(scene_, settings_.epsilon);
 }
 
 void Renderer::countCoverage(int width, int height, const float* rgba) {
   size_t pixels = size_t(width) * height;
-  std::vector<float> normalMaterial(pixels * 4), exitance(pixels * 4);
-  glBindTexture(GL_TEXTURE_2D, splatting_.normalMaterial());
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, normalMaterial.data());
-  glBindTexture(GL_TEXTURE_2D, splats_.exitance());
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, exitance.data());
-  gl::checkErrors("coverage read-back");
-  const auto& materials = scene_.denseMaterials();
   for (size_t i = 0; i < pixels; ++i) {
     const float* out = rgba + 4 * i;
     if (!std::isfinite(out[0]) || !std::isfinite(out[1]) || !std::isfinite(out[2]) || !std::isfinite(out[3]))
       ++stats_.nonfinite_pixels;
-    int m = int(normalMaterial[4 * i + 3]);
-    if (m < 0 || size_t(m) >= materials.size() || !materials[size_t(m)].kernel) continue;
-    ++stats_.translucent_pixels;
-    const float* b = &exitance[4 * i];
-    bool finite = std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]);
-    if (finite && b[0] + b[1] + b[2] > 0.0f) ++stats_.lit_translucent_pixels;
   }
+  CoverageCounts counts = coverage_.count(splatting_, splats_.exitance(), int(scene_.denseMaterials().size()),
+                                          width, height);
+  stats_.translucent_pixels = counts.translucentPixels;
+  stats_.lit_translucent_pixels = counts.litTranslucentPixels;
 }
 
 void Renderer::render(int width, int height, float* rgba) {
@@ -182,12 +112,12 @@ void Renderer::render(int width, int height, float* rgba) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 
   uploadMaterials();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialBuffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
-  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(translucent);
-  Levels chosen = chooseLevels(width, height, translucent, resolution, adaptive, multires);
+  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(scene_, translucent, settings_.target_error, maxTextureSize_);
+  Levels chosen = chooseLevels(scene_, settings_, width, height, translucent, resolution, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   {
     std::string size = std::to_string(resolution);
@@ -210,7 +140,7 @@ void Renderer::render(int width, int height, float* rgba) {
   StageProfiler& profiler = profiler_;
   profiler.newFrame();
   profiler.begin(SS_STAGE_BUFFERS);
-  splatting_.render(scene_);
+  splatting_.render(scene_, gpuScene_);
   splatting_.buildHierarchy(scene_.camera());
   profiler.end();
   splats_.clear();
@@ -218,17 +148,17 @@ void Renderer::render(int width, int height, float* rgba) {
   gl::checkErrors("splatting buffer");
 
   Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
-  KernelTables kernels{kernelTable_.id(), minimalRadius_.id(), kernelLayers_};
+  KernelTables kernels = materialTables_.kernels();
   stats_.levels = levels;
   stats_.splat_levels = splatLevels;
   stats_.irradiance_resolution = resolution;
-  double coarsest = lightTexel(translucent, resolution, false);
-  stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange() / coarsest) : 0.0f;
+  double coarsest = lightTexel(scene_, translucent, resolution, false);
+  stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange(scene_) / coarsest) : 0.0f;
   int res = irradiance_.resolution();
   for (const SsLightDesc& light : scene_.lights()) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
       profiler.begin(SS_STAGE_BUFFERS);
-      irradiance_.render(scene_, view);
+      irradiance_.render(scene_, gpuScene_, view);
       if (adaptive) irradiance_.buildHierarchy();
       profiler.end();
       if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
@@ -263,104 +193,8 @@ void Renderer::render(int width, int height, float* rgba) {
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
 }
 
-double Renderer::shortestRange() const {
-  double range = 0.0;
-  for (const MaterialEntry& m : scene_.denseMaterials()) {
-    if (!m.kernel) continue;
-    for (double r : m.kernel->effectiveRange())
-      if (r > 0.0) range = range > 0.0 ? std::min(range, r) : r;
-  }
-  return range;
-}
-
-double Renderer::lightTexel(const Bounds& translucent, int resolution, bool finest) const {
-  double texel = 0.0;
-  if (translucent.empty()) return texel;
-  Bounds all = scene_.bounds(false);
-  for (const SsLightDesc& light : scene_.lights())
-    for (const LightView& view : lightViews(light, translucent, all, resolution)) {
-      double size = light.type == SS_LIGHT_SUN
-                        ? view.shadowTexelSize
-                        : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
-      size = std::max(size, 1e-12);
-      texel = texel == 0.0 ? size : finest ? std::min(texel, size) : std::max(texel, size);
-    }
-  return texel;
-}
-
-double Renderer::texelsPerRangeFor(double targetError) {
-  // The error the irradiance sampling adds, over what the finest buffer leaves, is at most
-  // 1 % * (texels per R_P / 1.5) ^ -2 on every example scene (bench/tradeoff.py --sweep auto;
-  // docs/AUTO.md), so a target t needs 1.5 * sqrt(1 % / t) texels per R_P.
-  constexpr double kModelError = 0.01, kModelTexels = 1.5, kModelPower = 2.0;
-  return kModelTexels * std::pow(kModelError / targetError, 1.0 / kModelPower);
-}
-
-int Renderer::chooseResolution(const Bounds& translucent) const {
-  // Texels grow with 1 / resolution, so one probe gives the texels per R_P at every
-  // resolution. The rungs step by 1.33-1.5 in texels across (about sqrt(2)), about 2 in work.
-  constexpr int kProbe = 512;
-  static constexpr int kRungs[] = {128, 192, 256, 384, 512, 768, 1024, 1536, 2048};
-  int most = std::min(kAutoResolutionMax, int(maxTextureSize_));
-  double range = shortestRange(), texel = lightTexel(translucent, kProbe, false);
-  if (!(range > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
-  double needed = kProbe * texelsPerRangeFor(settings_.target_error) * texel / range;
-  for (int rung : kRungs)
-    if (rung >= needed && rung <= most) return std::max(rung, kAutoResolutionMin);
-  return most;
-}
-
-Renderer::Levels Renderer::chooseLevels(int width, int height, const Bounds& translucent, int resolution,
-                                        bool adaptive, bool multires) const {
-  Levels levels;
-  int maxIrradiance = 1, maxSplat = 1;  // while the coarsest level keeps a texel / pixel
-  // (and while each level halves the one above exactly: 192 keeps 7 levels, down to 3 x 3)
-  while (maxIrradiance < 8 && (resolution >> maxIrradiance) >= 1 && resolution % (1 << maxIrradiance) == 0)
-    ++maxIrradiance;
-  while (maxSplat < 8 && (std::max(width, height) >> maxSplat) >= 1) ++maxSplat;
-  if (settings_.levels > 0) {
-    levels.irradiance = adaptive ? std::min(settings_.levels, maxIrradiance) : 1;
-    levels.splat = multires ? std::min(settings_.levels, maxSplat) : 1;
-    return levels;
-  }
-  if (translucent.empty()) return levels;
-  double rangeMin = shortestRange(), rangeMax = 0.0;  // R_P over the translucent materials' channels
-  for (const MaterialEntry& m : scene_.denseMaterials()) {
-    if (!m.kernel) continue;
-    for (double r : m.kernel->effectiveRange()) rangeMax = std::max(rangeMax, r);
-  }
-  if (!(rangeMax > 0.0)) return levels;
-  auto clampLevels = [](double log2Ratio, int most) {
-    return std::clamp(1 + int(std::floor(std::max(log2Ratio, 0.0))), 1, most);
-  };
-  if (adaptive) {
-    // The finest texel any light view puts on the translucent objects, and the coarsest
-    // level at which such a texel, facing the light, could still be fine enough (eq. 11).
-    double texel = lightTexel(translucent, resolution, true);
-    if (texel > 0.0) levels.irradiance = clampLevels(std::log2(rangeMin / (settings_.alpha * texel)), maxIrradiance);
-  }
-  if (multires) {
-    // The coarsest splatting level keeps kCoarsestPixelsPerRange pixels per R_P (the longest
-    // channel's) at the translucent objects' nearest depth. It takes the profile's tail beyond
-    // R_P, a ring 0.8 R_P wide: coarser than that, upsampling blurs the ring across
-    // silhouettes and the error grows while the work hardly falls, since with eq. 14's
-    // epsilon the finest level keeps most of [0, R_P) anyway (docs/MULTIRES.md).
-    const SsCameraDesc& camera = scene_.camera();
-    glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
-    glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
-    double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
-    double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
-    double pixel = extent / double(height);
-    levels.splat = clampLevels(std::log2(rangeMax / (kCoarsestPixelsPerRange * pixel)), maxSplat);
-  }
-  return levels;
-}
-
 void Renderer::renderReference(int width, int height, float* rgba) {
-  {
-    gl::StateGuard guard;  // material resolution updates per-triangle buffers
-    scene_.resolveMaterials();
-  }
+  scene_.resolveMaterials();
   ReferenceOptions options;
   options.samples = settings_.reference_samples;
   options.background = glm::make_vec4(settings_.background);

@@ -1,8 +1,12 @@
 // One frame: buffer generation, splatting, shading, read-back.
 #pragma once
 
-#include "pipeline/buffers.h"
+#include "pipeline/coverage.h"
+#include "pipeline/irradiance_buffer.h"
+#include "pipeline/material_tables.h"
+#include "pipeline/shading.h"
 #include "pipeline/splatting.h"
+#include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
 #include "reference/reference_renderer.h"
 #include "scene.h"
@@ -15,14 +19,8 @@ class Renderer {
   static constexpr int kDefaultLevels = 0;  // automatic
   static constexpr float kDefaultZ0Factor = 0.03f, kDefaultAlpha = 15.0f, kDefaultEpsilon = 0.001f;
   static constexpr float kDefaultLambda = 8.0f;
-  // Automatic levels: pixels per R_P the coarsest splatting level keeps (chooseLevels).
-  static constexpr double kCoarsestPixelsPerRange = 8.0;
-  // Automatic irradiance resolution (docs/AUTO.md).
+  // Automatic irradiance resolution (pipeline/auto_quality.h, docs/AUTO.md).
   static constexpr float kDefaultTargetError = 0.01f;
-  static constexpr int kAutoResolutionMin = 128, kAutoResolutionMax = 2048;
-  // Irradiance texels across the shortest R_P an automatic resolution gives for a target
-  // relative RMSE: the error model fitted on the example scenes (docs/AUTO.md).
-  static double texelsPerRangeFor(double targetError);
   Renderer();
   Scene& scene() { return scene_; }
   const Scene& scene() const { return scene_; }
@@ -38,35 +36,24 @@ class Renderer {
   void readPass(int pass, int width, int height, float* rgba);
 
  private:
+  // Resolves the scene's materials and brings the GPU's copy and the tables up to date.
   void uploadMaterials();
-  // Coverage figures of the frame for SsStats (tests and the UI read them).
+  // Coverage figures of the frame for SsStats (tests and the UI read them): non-finite
+  // pixels of the image, translucent and lit translucent pixels counted on the GPU.
   void countCoverage(int width, int height, const float* rgba);
   void renderReference(int width, int height, float* rgba);
-  struct Levels {
-    int irradiance = 1, splat = 1;
-  };
-  Levels chooseLevels(int width, int height, const Bounds& translucent, int resolution, bool adaptive,
-                      bool multires) const;
-  // The shortest effective range R_P over the translucent materials' channels (0: none).
-  double shortestRange() const;
-  // The world size of the finest (finest = true) or coarsest texel the light views put on
-  // the translucent objects at a resolution (0: no light).
-  double lightTexel(const Bounds& translucent, int resolution, bool finest) const;
-  int chooseResolution(const Bounds& translucent) const;
 
   Scene scene_;
+  GpuScene gpuScene_;  // follows scene_ (its mesh observer)
   SsSettings settings_ = ssDefaultSettings();
   SsStats stats_{};
   IrradianceBuffer irradiance_;
   SplattingBuffer splatting_;
   Splatting splats_;
   Shading shading_;
+  Coverage coverage_;
   StageProfiler profiler_;  // its queries are reused by every frame of this context
-  gl::Buffer materialBuffer_;
-  gl::Texture kernelTable_, minimalRadius_;
-  int kernelLayers_ = 1;
-  float uploadedEpsilon_ = -1.0f;
-  uint64_t uploadedMaterialVersion_ = ~0ull;
+  MaterialTables materialTables_;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;
   ProgressFunction progress_;

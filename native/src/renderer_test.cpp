@@ -7,6 +7,7 @@
 
 #include "material/dipole.h"
 #include "material/splat_kernel.h"
+#include "pipeline/auto_quality.h"
 #include "renderer.h"
 #include "scene.h"
 #include "subsplat/subsplat.h"
@@ -43,6 +44,48 @@ class Render : public ::testing::Test {
   SsContext context = nullptr;
   testing::Quad quad;
 };
+
+// The coverage figures, counted on the GPU, equal a count on the CPU of the
+// image and the exitance pass: translucent pixels (the pass's alpha), those
+// with a finite exitance whose sum is > 0, and non-finite pixels.
+TEST_F(Render, CoverageStatsEqualACountOfTheImageAndTheExitancePass) {
+  testing::Sphere sphere(48, 24);
+  ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
+  SsMaterialDesc opaque{};
+  opaque.kind = SS_MATERIAL_OPAQUE;
+  opaque.base_color[0] = opaque.base_color[1] = opaque.base_color[2] = 0.5f;
+  opaque.roughness = 0.5f;
+  ASSERT_EQ(ssSetMaterial(context, 1, &opaque), SS_OK) << ssGetLastError();
+  SsMeshDesc card = quad.desc(0.1f, 1);  // an opaque card over part of the sphere
+  card.object_to_world[12] = 0.2f, card.object_to_world[13] = 0.2f, card.object_to_world[14] = 0.5f;
+  ASSERT_EQ(ssSetMesh(context, 1, &card), SS_OK) << ssGetLastError();
+  const int size = 64;
+  for (int method : {SS_METHOD_BRUTE, SS_METHOD_FULL}) {
+    SsSettings settings{method, 256, {0, 0, 0, 0}};
+    ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    Frame f = render(size);
+    SsStats stats{};
+    ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
+    std::vector<float> exitance(f.rgba.size());
+    ASSERT_EQ(ssGetPass(context, SS_PASS_EXITANCE, size, size, exitance.data()), SS_OK) << ssGetLastError();
+    uint64_t translucent = 0, lit = 0, nonfinite = 0;
+    for (size_t i = 0; i < f.rgba.size(); i += 4) {
+      const float* out = &f.rgba[i];
+      if (!std::isfinite(out[0]) || !std::isfinite(out[1]) || !std::isfinite(out[2]) || !std::isfinite(out[3]))
+        ++nonfinite;
+      const float* b = &exitance[i];
+      if (b[3] != 1.0f) continue;
+      ++translucent;
+      if (std::isfinite(b[0]) && std::isfinite(b[1]) && std::isfinite(b[2]) && b[0] + b[1] + b[2] > 0.0f) ++lit;
+    }
+    EXPECT_EQ(stats.translucent_pixels, translucent) << method;
+    EXPECT_EQ(stats.lit_translucent_pixels, lit) << method;
+    EXPECT_EQ(stats.nonfinite_pixels, nonfinite) << method;
+    EXPECT_GT(translucent, 0u);
+    EXPECT_GT(lit, 0u);
+    EXPECT_LT(translucent, uint64_t(size) * size) << "the card and the background are not translucent";
+  }
+}
 
 // A wide slab of marble under a sun: far from the edges the radiant exitance
 // is E * Rd_total (DESIGN.md), so the radiance seen from straight above is
@@ -283,11 +326,11 @@ TEST_F(Multires, AutomaticResolutionFollowsTheRangeAndTheTarget) {
     SsStats stats = renderAuto(0.0f);
     std::printf("%.0f mm per unit: %d², %.2f texels per R_P\n", mmPerUnit, stats.irradiance_resolution,
                 stats.texels_per_range);
-    EXPECT_GE(stats.irradiance_resolution, Renderer::kAutoResolutionMin);
-    EXPECT_LE(stats.irradiance_resolution, Renderer::kAutoResolutionMax);
+    EXPECT_GE(stats.irradiance_resolution, kAutoResolutionMin);
+    EXPECT_LE(stats.irradiance_resolution, kAutoResolutionMax);
     EXPECT_GE(stats.irradiance_resolution, previous) << mmPerUnit;
-    if (stats.irradiance_resolution > Renderer::kAutoResolutionMin && stats.irradiance_resolution < Renderer::kAutoResolutionMax)
-      EXPECT_GE(stats.texels_per_range, Renderer::texelsPerRangeFor(Renderer::kDefaultTargetError) * 0.999);
+    if (stats.irradiance_resolution > kAutoResolutionMin && stats.irradiance_resolution < kAutoResolutionMax)
+      EXPECT_GE(stats.texels_per_range, texelsPerRangeFor(Renderer::kDefaultTargetError) * 0.999);
     if (first == 0) first = stats.irradiance_resolution;
     previous = stats.irradiance_resolution;
   }

@@ -135,10 +135,9 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
   // mesh beyond the memory budget leaves the object without one (the call failed).
   if (existing != meshes_.end()) {
     meshes_.erase(existing);
+    if (observer_) observer_->meshRemoved(objectId);
     resolvedVersion_ = ~0ull;
   }
-  gl::Purpose purpose(name + " (" + std::to_string(d.vertex_count) + " vertices, " +
-                      std::to_string(d.triangle_count) + " triangles)");
   mesh.objectToWorld = glm::make_mat4(d.object_to_world);
   mesh.triangleCount = d.triangle_count;
   mesh.materialIds.assign(d.triangle_count, d.default_material);
@@ -158,39 +157,19 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
               glm::all(glm::lessThan(glm::abs(mesh.worldBounds.hi), glm::vec3(1e15f))),
           name + ": world-space bounds are not finite");
 
-  mesh.vertexArray = gl::makeVertexArray();
-  glBindVertexArray(mesh.vertexArray.id());
-  mesh.positions = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(float) * 3 * d.vertex_count, d.positions);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
-  mesh.normals = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(glm::vec3) * d.vertex_count, normals.data());
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(1);
-  if (mesh.hasUvs()) {
-    mesh.uvs = gl::makeBuffer(GL_ARRAY_BUFFER, sizeof(glm::vec2) * d.vertex_count, mesh.cpuUvs.data());
-    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(2);
-  }
-  mesh.indices = gl::makeBuffer(GL_ELEMENT_ARRAY_BUFFER, sizeof(uint32_t) * 3 * d.triangle_count,
-                                d.indices);
-  glBindVertexArray(0);
-  mesh.triangleMaterialBuffer =
-      gl::makeBuffer(GL_TEXTURE_BUFFER, sizeof(uint32_t) * d.triangle_count, nullptr, GL_DYNAMIC_DRAW);
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  mesh.triangleMaterials = gl::Texture(texture);
-  glBindTexture(GL_TEXTURE_BUFFER, texture);
-  glTexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, mesh.triangleMaterialBuffer.id());
-  gl::checkErrors("mesh upload");
+  if (observer_) observer_->meshSet(objectId, mesh);
   meshes_[objectId] = std::move(mesh);
   resolvedVersion_ = ~0ull;
 }
 
 void Scene::removeMesh(uint32_t objectId) {
   require(meshes_.erase(objectId) == 1, "no mesh with object id " + std::to_string(objectId));
+  if (observer_) observer_->meshRemoved(objectId);
 }
 
 void Scene::clear() {
+  if (observer_)
+    for (const auto& [id, mesh] : meshes_) observer_->meshRemoved(id);
   meshes_.clear();
   materials_.clear();
   dense_.clear();
@@ -257,12 +236,7 @@ void Scene::resolveMaterials() {
     }
   }
   if (maps.empty()) maps.push_back(0);
-  profileMapBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, maps.size() * sizeof(uint16_t), maps.data());
-  GLuint mapTexture = 0;
-  glGenTextures(1, &mapTexture);
-  profileMapTexture_ = gl::Texture(mapTexture);
-  glBindTexture(GL_TEXTURE_BUFFER, mapTexture);
-  glTexBuffer(GL_TEXTURE_BUFFER, GL_R16UI, profileMapBuffer_.id());
+  profileMaps_ = std::move(maps);
   heterogeneous_ = false;
   for (const MaterialEntry& e : dense_) heterogeneous_ |= e.mapped();
   for (auto& [objectId, mesh] : meshes_) {
@@ -283,12 +257,10 @@ void Scene::resolveMaterials() {
       heterogeneous_ |= translucentMaterial >= 0 && translucentMaterial != int(m);
       translucentMaterial = int(m);
     }
-    glBindBuffer(GL_TEXTURE_BUFFER, mesh.triangleMaterialBuffer.id());
-    glBufferSubData(GL_TEXTURE_BUFFER, 0, GLsizeiptr(dense.size() * sizeof(uint32_t)), dense.data());
     mesh.denseMaterials = std::move(dense);
   }
-  gl::checkErrors("material resolution");
   resolvedVersion_ = materialVersion_;
+  ++resolutionCount_;
 }
 
 Bounds Scene::bounds(bool translucentOnly) const {

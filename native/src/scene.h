@@ -1,5 +1,7 @@
-// What a frame is rendered from: meshes on the GPU, materials, lights, camera.
-// Everything is validated here, on the way in.
+// What a frame is rendered from: meshes, materials, lights, camera, as plain
+// CPU data (no GL: REFERENCE and the scene files use it without a context).
+// Everything is validated here, on the way in. The GPU's copy of the meshes
+// and material indices is pipeline/gpu_scene.h, told of every mesh change.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -10,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "gl/gl.h"
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
 #include "subsplat/subsplat.h"
@@ -28,11 +29,8 @@ struct Bounds {
 
 struct Mesh {
   int index = 0;  // dense index written to the buffers
-  gl::VertexArray vertexArray;
-  gl::Buffer positions, normals, uvs, indices, triangleMaterialBuffer;
-  gl::Texture triangleMaterials;  // buffer texture of dense material indices
   std::vector<uint32_t> materialIds; // caller's material id per triangle
-  // CPU copies for REFERENCE (object space; normals after repair).
+  // Object space; normals after repair.
   std::vector<glm::vec3> cpuPositions, cpuNormals;
   std::vector<glm::vec2> cpuUvs;  // empty when the caller gave none
   bool hasUvs() const { return !cpuUvs.empty(); }
@@ -69,12 +67,14 @@ struct MaterialEntry {
   bool mapped() const { return profiles && profiles->profileCount() > 1; }
 };
 
-// The GPU layout of one entry (common.glsl: Material).
-struct MaterialGpu {
-  float baseColorKind[4];
-  float optics[4];
-  float ranges[4];
-  uint32_t profileMap[4];
+// Told of every mesh change, so that a copy (the GPU's, pipeline/gpu_scene.h)
+// follows the scene.
+class MeshObserver {
+ public:
+  virtual ~MeshObserver() = default;
+  // A mesh was set; when this throws, the object is left without a mesh.
+  virtual void meshSet(uint32_t objectId, const Mesh& mesh) = 0;
+  virtual void meshRemoved(uint32_t objectId) = 0;
 };
 
 class Scene {
@@ -87,16 +87,22 @@ class Scene {
   void setLights(const SsLightDesc* lights, uint32_t count);
   void setCamera(const SsCameraDesc& camera);
 
-  // Dense material table and kernel layers; throws if a mesh uses a
-  // material that was never set. Uploads per-triangle dense indices.
+  // At most one; nullptr: none.
+  void setMeshObserver(MeshObserver* observer) { observer_ = observer; }
+
+  // Dense material table and per-triangle dense indices; throws if a mesh
+  // uses a material that was never set.
   void resolveMaterials();
+  // Counts the resolutions that changed something: a copy of the dense
+  // indices and profile maps is current while it has the same count.
+  uint64_t resolutionCount() const { return resolutionCount_; }
 
   const std::map<uint32_t, Mesh>& meshes() const { return meshes_; }
   const std::map<uint32_t, Material>& materials() const { return materials_; }
   const std::vector<MaterialEntry>& denseMaterials() const { return dense_; }
-  // Palette indices of every SUBEDIT map, one after another (R16UI buffer
-  // texture; MaterialGpu::profileMap holds each map's offset and size).
-  GLuint profileMaps() const { return profileMapTexture_.id(); }
+  // Palette indices of every SUBEDIT map, one after another (at least one;
+  // MaterialGpu::profileMap holds each map's offset and size).
+  const std::vector<uint16_t>& profileMaps() const { return profileMaps_; }
   // Whether some object can carry more than one translucent entry, so that
   // R_d(x_i, x_o) = sqrt(P_i P_o) needs both ends (eq. 8).
   bool heterogeneous() const { return heterogeneous_; }
@@ -110,15 +116,15 @@ class Scene {
   std::map<uint32_t, Material> materials_;
   std::map<uint32_t, Mesh> meshes_;
   std::vector<MaterialEntry> dense_;
-  gl::Buffer profileMapBuffer_;
-  gl::Texture profileMapTexture_;
+  std::vector<uint16_t> profileMaps_;
   bool heterogeneous_ = false;
   std::map<uint32_t, int> denseIndex_;
   std::vector<SsLightDesc> lights_;
   SsCameraDesc camera_{};
   bool hasCamera_ = false;
-  uint64_t materialVersion_ = 0, resolvedVersion_ = ~0ull;
+  uint64_t materialVersion_ = 0, resolvedVersion_ = ~0ull, resolutionCount_ = 0;
   int nextMeshIndex_ = 0;
+  MeshObserver* observer_ = nullptr;
 };
 
 DipoleMaterial dipoleMaterial(const SsMaterialDesc& desc);

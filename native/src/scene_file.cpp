@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "renderer.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -108,7 +109,7 @@ std::vector<float> flatten(const std::vector<T>& v) {
   return out;
 }
 
-void readMesh(Renderer& renderer, Reader& r) {
+void readMesh(Scene& scene, Reader& r) {
   uint32_t id = r.get<uint32_t>(), vertexCount = r.get<uint32_t>(), triangleCount = r.get<uint32_t>();
   uint32_t flags = r.get<uint32_t>();
   SsMeshDesc desc{};
@@ -126,10 +127,10 @@ void readMesh(Renderer& renderer, Reader& r) {
   desc.indices = indices.data();
   desc.triangle_materials = materials.data();
   desc.triangle_count = triangleCount;
-  renderer.scene().setMesh(id, desc);
+  scene.setMesh(id, desc);
 }
 
-void readMaterial(Renderer& renderer, Reader& r) {
+void readMaterial(Scene& scene, Reader& r) {
   uint32_t id = r.get<uint32_t>();
   SsMaterialDesc desc{};
   std::vector<char> bytes = r.getArray<char>(kMaterialBytes);
@@ -152,10 +153,11 @@ void readMaterial(Renderer& renderer, Reader& r) {
       fail(e.status(), r.what() + ": " + e.what());
     }
   }
-  renderer.scene().setMaterial(id, desc, std::move(profiles));
+  scene.setMaterial(id, desc, std::move(profiles));
 }
 
-FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const std::string& path) {
+FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>& applySettings,
+                      const std::vector<char>& bytes, const std::string& path) {
   FrameSize frame;
   Reader file(bytes.data(), bytes.size(), path);
   char magic[8];
@@ -176,19 +178,19 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
     Reader r(payload.data(), payload.size(), path + ", record " + std::to_string(index));
     switch (tag) {
       case kMaterial:
-        readMaterial(renderer, r);
+        readMaterial(scene, r);
         break;
       case kMesh:
-        readMesh(renderer, r);
+        readMesh(scene, r);
         break;
       case kLights: {
         uint32_t count = r.get<uint32_t>();
         std::vector<SsLightDesc> lights = r.getArray<SsLightDesc>(count);
-        renderer.scene().setLights(lights.data(), count);
+        scene.setLights(lights.data(), count);
         break;
       }
       case kCamera:
-        renderer.scene().setCamera(r.get<SsCameraDesc>());
+        scene.setCamera(r.get<SsCameraDesc>());
         break;
       case kSettings: {
         SsSettings settings{};
@@ -198,7 +200,7 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
         } else {
           settings = r.get<SsSettings>();
         }
-        renderer.setSettings(settings);
+        applySettings(settings);
         break;
       }
       case kFrame:
@@ -218,8 +220,7 @@ FrameSize readRecords(Renderer& renderer, const std::vector<char>& bytes, const 
 
 }  // namespace
 
-void saveScene(const Renderer& renderer, const std::string& path) {
-  const Scene& scene = renderer.scene();
+void saveScene(const Scene& scene, const SsSettings& settings, FrameSize frame, const std::string& path) {
   Writer w;
   for (char c : kMagic) w.put(c);
   w.put(kFormatVersion);
@@ -262,11 +263,11 @@ void saveScene(const Renderer& renderer, const std::string& path) {
     w.putArray(scene.lights());
   });
   if (scene.hasCamera()) w.record(kCamera, [&] { w.put(scene.camera()); });
-  w.record(kSettings, [&] { w.put(renderer.settings()); });
-  if (renderer.lastWidth() > 0)
+  w.record(kSettings, [&] { w.put(settings); });
+  if (frame.width > 0)
     w.record(kFrame, [&] {
-      w.put(int32_t(renderer.lastWidth()));
-      w.put(int32_t(renderer.lastHeight()));
+      w.put(int32_t(frame.width));
+      w.put(int32_t(frame.height));
     });
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -276,18 +277,27 @@ void saveScene(const Renderer& renderer, const std::string& path) {
   if (!out) fail(SS_INVALID_ARGUMENT, "writing " + path + " failed: " + systemError());
 }
 
-FrameSize loadScene(Renderer& renderer, const std::string& path) {
+FrameSize loadScene(Scene& scene, const std::function<void(const SsSettings&)>& applySettings,
+                    const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(SS_INVALID_ARGUMENT, "cannot read " + path + ": " + systemError());
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) fail(SS_INVALID_ARGUMENT, "reading " + path + " failed: " + systemError());
-  renderer.scene().clear();
+  scene.clear();
   try {
-    return readRecords(renderer, bytes, path);
+    return readRecords(scene, applySettings, bytes, path);
   } catch (...) {
-    renderer.scene().clear();
+    scene.clear();
     throw;
   }
+}
+
+void saveScene(const Renderer& renderer, const std::string& path) {
+  saveScene(renderer.scene(), renderer.settings(), {renderer.lastWidth(), renderer.lastHeight()}, path);
+}
+
+FrameSize loadScene(Renderer& renderer, const std::string& path) {
+  return loadScene(renderer.scene(), [&](const SsSettings& settings) { renderer.setSettings(settings); }, path);
 }
 
 }  // namespace subsplat

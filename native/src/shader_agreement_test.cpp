@@ -14,7 +14,7 @@
 
 #include "gl/gl.h"
 #include "material/dipole.h"
-#include "pipeline/buffers.h"
+#include "pipeline/pass_helpers.h"
 #include "reference/lighting.h"
 #include "testing/egl_context.h"
 

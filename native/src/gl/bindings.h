@@ -52,7 +52,8 @@
 // X(name, binding): indexed shader storage buffer bindings.
 #define SUBSPLAT_STORAGE_BINDINGS(X) \
   X(STORAGE_MATERIALS, 0)            \
-  X(STORAGE_SELECTION_COUNTS, 1)
+  X(STORAGE_SELECTION_COUNTS, 1)    \
+  X(STORAGE_COVERAGE_COUNTS, 2)
 
 // X(name, value): enums the shaders share with the C API (subsplat.h).
 #define SUBSPLAT_SHARED_ENUMS(X)    \

@@ -30,11 +30,7 @@ Dipole::Dipole(const DipoleChannel& c) {
 }
 
 double Dipole::diffuseReflectance(double r) const {
-  double dr = std::sqrt(r * r + zr_ * zr_);
-  double dv = std::sqrt(r * r + zv_ * zv_);
-  double real = zr_ * (sigmaTr_ + 1.0 / dr) * std::exp(-sigmaTr_ * dr) / (dr * dr);
-  double virt = zv_ * (sigmaTr_ + 1.0 / dv) * std::exp(-sigmaTr_ * dv) / (dv * dv);
-  return albedo_ / (4.0 * M_PI) * (real + virt);
+  return dipoleReflectance(r * r, zr_, zv_, sigmaTr_, albedo_ / (4.0 * M_PI));
 }
 
 double Dipole::energyWithin(double r) const {

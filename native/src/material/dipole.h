@@ -2,9 +2,24 @@
 // papers/lensch2002 fig. 2). Lengths in millimetres, R_d in 1/mm^2.
 #pragma once
 
+#include <cmath>
+
 #include "material/radial_profile.h"
 
 namespace subsplat {
+
+// The dipole's R_d at squared distance r2 from the point where light enters
+// (Jensen et al. 2001, eq. 4): a real source at depth zr and a virtual one at
+// height zv, effective extinction sigmaTr, scale = reduced albedo / (4 pi).
+// Lengths in any one unit; R_d in 1 / unit^2. Dipole and REFERENCE both
+// evaluate it here.
+inline double dipoleReflectance(double r2, double zr, double zv, double sigmaTr, double scale) {
+  double dr2 = r2 + zr * zr, dv2 = r2 + zv * zv;
+  double dr = std::sqrt(dr2), dv = std::sqrt(dv2);
+  double real = zr * (sigmaTr + 1.0 / dr) * std::exp(-sigmaTr * dr) / dr2;
+  double virt = zv * (sigmaTr + 1.0 / dv) * std::exp(-sigmaTr * dv) / dv2;
+  return scale * (real + virt);
+}
 
 struct DipoleChannel {
   double sigmaA = 0.0;       // absorption, 1/mm

@@ -58,6 +58,23 @@ TEST(Dipole, RadiusForEnergyInvertsEnergyWithin) {
   EXPECT_LT(r95, d.radiusForEnergy(0.99));
 }
 
+// REFERENCE evaluates R_d in scene units through the same function as Dipole
+// (in mm): lengths scale by mm per unit, R_d by its square.
+TEST(Dipole, ReflectanceInSceneUnitsIsTheProfileInMillimetres) {
+  const double mmPerUnit = 37.0;
+  for (const DipoleChannel& c : kMedia) {
+    Dipole d(c);
+    for (double rMm : {0.0, 0.01, 0.3, 2.0, 15.0}) {
+      double rUnits = rMm / mmPerUnit;
+      double perUnit2 = dipoleReflectance(rUnits * rUnits, d.realSourceDepth() / mmPerUnit,
+                                          d.virtualSourceHeight() / mmPerUnit,
+                                          d.effectiveExtinction() * mmPerUnit, d.reducedAlbedo() / (4.0 * M_PI));
+      EXPECT_NEAR(perUnit2 / (mmPerUnit * mmPerUnit), d.diffuseReflectance(rMm), 1e-12 * d.diffuseReflectance(rMm))
+          << rMm;
+    }
+  }
+}
+
 TEST(Fresnel, TransmittanceAtNormalIncidenceAndGrazing) {
   double eta = 1.5, r0 = std::pow((eta - 1) / (eta + 1), 2);
   EXPECT_NEAR(fresnelTransmittance(eta, 1.0), 1 - r0, 1e-9);

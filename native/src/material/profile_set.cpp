@@ -9,7 +9,7 @@
 #include <unordered_map>
 
 #include "material/splat_kernel.h"
-#include "reference/parallel.h"
+#include "util/parallel.h"
 #include "util/error.h"
 
 namespace subsplat {

@@ -1,7 +1,5 @@
 #include "pipeline/splatting.h"
 
-#include <glm/gtc/type_ptr.hpp>
-
 #include <algorithm>
 
 #include "material/splat_kernel.h"
@@ -75,35 +73,6 @@ uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
   return selected;
 }
 
-void Splatting::setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view,
-                                     const IrradianceBuffer& irradiance, const SplattingBuffer& splatting,
-                                     const Selection& selection, GLint offsets[9]) {
-  int res = irradiance.resolution();
-  glUniform1i(uniform(p, "resolution"), res);
-  setLightUniforms(p, view);
-  int levels = selection.levels;
-  for (int k = 0; k < 9; ++k) offsets[k] = 0;
-  for (int k = 0; k < levels; ++k) {
-    int size = std::max(res >> k, 1);
-    offsets[k + 1] = offsets[k] + size * size;
-  }
-  for (int k = levels + 1; k < 9; ++k) offsets[k] = offsets[levels];
-  glUniform1i(uniform(p, "levels"), levels);
-  glUniform1iv(uniform(p, "levelOffset"), 9, offsets);
-  glUniform1f(uniform(p, "z0"), selection.z0);
-  glUniform1f(uniform(p, "alpha"), selection.alpha);
-  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
-  glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
-  glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
-  bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, irradiance.positionMaterial());
-  bindTexture(gl::UNIT_IRRADIANCE_FLUX_FOOTPRINT, GL_TEXTURE_2D, irradiance.fluxFootprint());
-  bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, irradiance.normalObject());
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_IRRADIANCE_DEPTH_RANGE, GL_TEXTURE_2D, irradiance.depthRange());
-  glUniform1i(uniform(p, "profileSplits"), irradiance.profileSplits() ? 1 : 0);
-  if (irradiance.profileSplits()) bindTexture(gl::UNIT_IRRADIANCE_PROFILE_SPLIT, GL_TEXTURE_2D, irradiance.profileSplit());
-}
-
 void Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
                       StageProfiler& profiler) {
@@ -152,107 +121,6 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
     glDrawArrays(GL_POINTS, 0, offsets[levels]);
     profiler.end();
   }
-  glBindVertexArray(0);
-}
-
-void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
-                           StageProfiler& profiler) {
-  int levels = int(exitance_.size());
-  for (size_t k = 0; k < levelCopies_.size(); ++k)  // each level as splatted, for the debug pass
-    glCopyImageSubData(exitance_[k].id(), GL_TEXTURE_2D, 0, 0, 0, 0, levelCopies_[k].id(), GL_TEXTURE_2D, 0, 0, 0,
-                       0, std::max(width_ >> int(k), 1), std::max(height_ >> int(k), 1), 1);
-  if (levels <= 1) return;
-  profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kAccumulation);
-  if (!accumulateProgram_) accumulateProgram_ = gl::makeProgram("fullscreen.vert", "", "accumulate.frag");
-  GLuint p = accumulateProgram_.id();
-  glUseProgram(p);
-  setCameraUniforms(p, scene.camera());
-  glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
-  glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
-  glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
-  glBindVertexArray(empty_.id());
-  for (int k = levels - 2; k >= 0; --k) {  // coarse to fine: level k += upsampled level k + 1
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
-    glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
-    bindTexture(gl::UNIT_COARSE_EXITANCE, GL_TEXTURE_2D, exitance_[size_t(k + 1)].id());
-    glUniform1i(uniform(p, "fineLevel"), k);
-    glUniform2i(uniform(p, "coarseSize"), std::max(width_ >> (k + 1), 1), std::max(height_ >> (k + 1), 1));
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-  }
-  glBindVertexArray(0);
-  glDisable(GL_BLEND);
-  profiler.end();
-  gl::checkErrors("splat accumulation");
-}
-
-void Shading::resize(int width, int height) {
-  if (!directProgram_) {
-    directProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag");
-    finalProgram_ = gl::makeProgram("fullscreen.vert", "", "final_shading.frag");
-    empty_ = gl::makeVertexArray();
-  }
-  if (width == width_ && height == height_) return;
-  width_ = height_ = 0;  // as in IrradianceBuffer::resize
-  directFramebuffer_.reset();
-  resultFramebuffer_.reset();
-  direct_.reset();
-  result_.reset();
-  direct_ = gl::makeTexture2D(GL_RGBA32F, width, height);
-  result_ = gl::makeTexture2D(GL_RGBA32F, width, height);
-  directFramebuffer_ = gl::makeFramebuffer({direct_.id()}, 0);
-  resultFramebuffer_ = gl::makeFramebuffer({result_.id()}, 0);
-  width_ = width;
-  height_ = height;
-}
-
-void Shading::clear() {
-  glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-}
-
-void Shading::directLighting(const Scene& scene, const LightView& view,
-                             const IrradianceBuffer& irradiance, const SplattingBuffer& splatting) {
-  glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
-  glViewport(0, 0, width_, height_);
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
-  GLuint p = directProgram_.id();
-  glUseProgram(p);
-  setLightUniforms(p, view);
-  setCameraUniforms(p, scene.camera());
-  glUniform1i(uniform(p, "resolution"), irradiance.resolution());
-  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
-  glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
-  glBindVertexArray(empty_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glDisable(GL_BLEND);
-}
-
-void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
-                           const float background[4]) {
-  glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
-  glViewport(0, 0, width_, height_);
-  GLuint p = finalProgram_.id();
-  glUseProgram(p);
-  setCameraUniforms(p, scene.camera());
-  glUniform4fv(uniform(p, "background"), 1, background);
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
-  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
-  glBindVertexArray(empty_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
 }
 

@@ -4,33 +4,16 @@
 #pragma once
 
 #include "gl/gl.h"
-#include "pipeline/buffers.h"
+#include "pipeline/accumulation.h"
+#include "pipeline/irradiance_buffer.h"
+#include "pipeline/material_tables.h"
+#include "pipeline/sample_selection.h"
+#include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
 
 #include <vector>
 
 namespace subsplat {
-
-// Which irradiance samples are splatted: levels == 1 takes every finest texel
-// (BRUTE); more levels select adaptively (Algorithm 1, splat.vert).
-struct Selection {
-  int levels = 1;
-  float z0 = 0.0f;     // depth-range threshold, scene units
-  float alpha = 15.0f;
-};
-
-// The per-material tables the splat shaders read.
-struct KernelTables {
-  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material entry
-  GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
-  int layers = 1;
-};
-
-// Eq. 17's weights.
-struct Accumulation {
-  float lambdaZ = 8.0f, lambdaM = 8.0f;
-  float boundingDiameter = 1.0f;  // R_w
-};
 
 class Splatting {
  public:
@@ -59,9 +42,6 @@ class Splatting {
   GLuint levelExitance(int k) const { return levelCopies_.at(size_t(k)).id(); }
 
  private:
-  void setSelectionUniforms(GLuint program, const Scene& scene, const LightView& view,
-                            const IrradianceBuffer& irradiance, const SplattingBuffer& splatting,
-                            const Selection& selection, GLint offsets[9]);
   bool debug_ = false;
   gl::Program selectionProgram_;
   gl::Texture selection_;
@@ -73,27 +53,6 @@ class Splatting {
   std::vector<gl::Texture> exitance_;
   std::vector<gl::Framebuffer> framebuffers_;
   gl::Buffer counts_;  // SelectionCounts (splat.vert)
-};
-
-class Shading {
- public:
-  void resize(int width, int height);
-  void clear();
-  // Direct light of one light view (diffuse, specular, shadows).
-  void directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                      const SplattingBuffer& splatting);
-  // Eq. 7 and the background into `target` (RGBA32F, width x height).
-  void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
-                    const float background[4]);
-  GLuint result() const { return result_.id(); }
-  GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
-
- private:
-  int width_ = 0, height_ = 0;
-  gl::Program directProgram_, finalProgram_;
-  gl::VertexArray empty_;
-  gl::Texture direct_, result_;
-  gl::Framebuffer directFramebuffer_, resultFramebuffer_;
 };
 
 }  // namespace subsplat

@@ -10,9 +10,9 @@
 
 #include "material/dipole.h"
 #include "material/profile_set.h"
-#include "pipeline/buffers.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
+#include "util/camera.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -28,7 +28,7 @@ double msSince(Clock::time_point t) {
 // or a SubEdit palette entry; and its surface terms.
 struct Profile {
   bool translucent = false;
-  double scale[3]{}, zr2[3]{}, zv2[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
+  double scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
   double mmPerUnit = 1.0;
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
@@ -56,28 +56,20 @@ struct Profile {
       scale[c] = dipole.reducedAlbedo() / (4.0 * M_PI);
       zr[c] = dipole.realSourceDepth() / unit;
       zv[c] = dipole.virtualSourceHeight() / unit;
-      zr2[c] = zr[c] * zr[c];
-      zv2[c] = zv[c] * zv[c];
       sigmaTr[c] = dipole.effectiveExtinction() * unit;
       support = std::max(support, dipole.radiusForEnergy(ReferenceRenderer::kSupportEnergy) / unit);
       minZr = std::min(minZr, zr[c]);
     }
   }
 
-  // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.cpp).
+  // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.h).
   void evaluate(double r2, double out[3]) const {
     if (!segmented.empty()) {
       double r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
       for (int c = 0; c < 3; ++c) out[c] = segmented[size_t(c)].value(r) * perUnit2;
       return;
     }
-    for (int c = 0; c < 3; ++c) {
-      double dr2 = r2 + zr2[c], dv2 = r2 + zv2[c];
-      double dr = std::sqrt(dr2), dv = std::sqrt(dv2);
-      double real = zr[c] * (sigmaTr[c] + 1.0 / dr) * std::exp(-sigmaTr[c] * dr) / dr2;
-      double virt = zv[c] * (sigmaTr[c] + 1.0 / dv) * std::exp(-sigmaTr[c] * dv) / dv2;
-      out[c] = scale[c] * (real + virt);
-    }
+    for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(r2, zr[c], zv[c], sigmaTr[c], scale[c]);
   }
 };
 

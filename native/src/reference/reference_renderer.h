@@ -21,8 +21,8 @@
 
 #include <vector>
 
-#include "reference/parallel.h"
 #include "scene.h"
+#include "util/parallel.h"
 
 namespace subsplat {
 

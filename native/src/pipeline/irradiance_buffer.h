@@ -1,24 +1,14 @@
-// Buffer generation (paper sec. 4, step 1): the irradiance buffer seen from a
-// light view and the splatting buffer seen from the camera.
+// The irradiance buffer (paper sec. 4, step 1): the lit surface seen from a
+// light view, texel by texel (position, flux and footprint, normal, depth),
+// and its hierarchy of coarser levels for sample selection.
 #pragma once
-
-#include <glm/glm.hpp>
 
 #include "gl/gl.h"
 #include "pipeline/light_views.h"
+#include "pipeline/pass_helpers.h"
 #include "scene.h"
 
 namespace subsplat {
-
-// Uniform helpers shared by the passes.
-GLint uniform(GLuint program, const char* name);
-void setLightUniforms(GLuint program, const LightView& view);
-// Binds `texture` on a unit of the binding table (gl/bindings.h), which the shaders name, and
-// no sampler object there (a host's sampler would override the texture's filtering).
-void bindTexture(int unit, GLenum target, GLuint texture);
-
-// Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
-void drawMeshes(const Scene& scene, GLuint program, const glm::mat4& viewProj);
 
 class IrradianceBuffer {
  public:
@@ -26,7 +16,7 @@ class IrradianceBuffer {
   // profileSplits: keep, per level-0 texel, where a second profile covers part
   // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
   void resize(int resolution, int levels = 1, bool profileSplits = false);
-  void render(const Scene& scene, const LightView& view);
+  void render(const Scene& scene, const GpuScene& gpu, const LightView& view);
   // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
   void buildHierarchy();
   int resolution() const { return resolution_; }
@@ -51,27 +41,5 @@ class IrradianceBuffer {
   gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_, profileSplit_;
   gl::Framebuffer framebuffer_;
 };
-
-class SplattingBuffer {
- public:
-  // levels > 1: a median-depth hierarchy for multiresolution splatting.
-  void resize(int width, int height, int levels = 1);
-  void render(const Scene& scene);
-  void buildHierarchy(const SsCameraDesc& camera);
-  int levels() const { return levels_; }
-  GLuint positionObject() const { return positionObject_.id(); }
-  GLuint normalMaterial() const { return normalMaterial_.id(); }
-
- private:
-  int width_ = 0, height_ = 0, levels_ = 0;
-  gl::Program program_, reduceProgram_;
-  gl::Texture positionObject_, normalMaterial_, depth_;
-  gl::Framebuffer framebuffer_;
-};
-
-// Camera position and forward axis from the world-to-view matrix.
-glm::vec3 cameraPosition(const SsCameraDesc& camera);
-glm::vec3 cameraForward(const SsCameraDesc& camera);
-void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
 
 }  // namespace subsplat

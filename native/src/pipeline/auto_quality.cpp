@@ -1,0 +1,105 @@
+#include "pipeline/auto_quality.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/light_views.h"
+
+namespace subsplat {
+
+double shortestRange(const Scene& scene) {
+  double range = 0.0;
+  for (const MaterialEntry& m : scene.denseMaterials()) {
+    if (!m.kernel) continue;
+    for (double r : m.kernel->effectiveRange())
+      if (r > 0.0) range = range > 0.0 ? std::min(range, r) : r;
+  }
+  return range;
+}
+
+double lightTexel(const Scene& scene, const Bounds& translucent, int resolution, bool finest) {
+  double texel = 0.0;
+  if (translucent.empty()) return texel;
+  Bounds all = scene.bounds(false);
+  for (const SsLightDesc& light : scene.lights())
+    for (const LightView& view : lightViews(light, translucent, all, resolution)) {
+      double size = light.type == SS_LIGHT_SUN
+                        ? view.shadowTexelSize
+                        : view.shadowTexelSize * glm::distance(glm::make_vec3(light.position), translucent.center());
+      size = std::max(size, 1e-12);
+      texel = texel == 0.0 ? size : finest ? std::min(texel, size) : std::max(texel, size);
+    }
+  return texel;
+}
+
+double texelsPerRangeFor(double targetError) {
+  // The error the irradiance sampling adds, over what the finest buffer leaves, is at most
+  // 1 % * (texels per R_P / 1.5) ^ -2 on every example scene (bench/tradeoff.py --sweep auto;
+  // docs/AUTO.md), so a target t needs 1.5 * sqrt(1 % / t) texels per R_P.
+  constexpr double kModelError = 0.01, kModelTexels = 1.5, kModelPower = 2.0;
+  return kModelTexels * std::pow(kModelError / targetError, 1.0 / kModelPower);
+}
+
+int chooseResolution(const Scene& scene, const Bounds& translucent, double targetError, int maxTextureSize) {
+  // Texels grow with 1 / resolution, so one probe gives the texels per R_P at every
+  // resolution. The rungs step by 1.33-1.5 in texels across (about sqrt(2)), about 2 in work.
+  constexpr int kProbe = 512;
+  static constexpr int kRungs[] = {128, 192, 256, 384, 512, 768, 1024, 1536, 2048};
+  int most = std::min(kAutoResolutionMax, maxTextureSize);
+  double range = shortestRange(scene), texel = lightTexel(scene, translucent, kProbe, false);
+  if (!(range > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
+  double needed = kProbe * texelsPerRangeFor(targetError) * texel / range;
+  for (int rung : kRungs)
+    if (rung >= needed && rung <= most) return std::max(rung, kAutoResolutionMin);
+  return most;
+}
+
+Levels chooseLevels(const Scene& scene, const SsSettings& settings, int width, int height,
+                    const Bounds& translucent, int resolution, bool adaptive, bool multires) {
+  Levels levels;
+  int maxIrradiance = 1, maxSplat = 1;  // while the coarsest level keeps a texel / pixel
+  // (and while each level halves the one above exactly: 192 keeps 7 levels, down to 3 x 3)
+  while (maxIrradiance < 8 && (resolution >> maxIrradiance) >= 1 && resolution % (1 << maxIrradiance) == 0)
+    ++maxIrradiance;
+  while (maxSplat < 8 && (std::max(width, height) >> maxSplat) >= 1) ++maxSplat;
+  if (settings.levels > 0) {
+    levels.irradiance = adaptive ? std::min(settings.levels, maxIrradiance) : 1;
+    levels.splat = multires ? std::min(settings.levels, maxSplat) : 1;
+    return levels;
+  }
+  if (translucent.empty()) return levels;
+  double rangeMin = shortestRange(scene), rangeMax = 0.0;  // R_P over the translucent materials' channels
+  for (const MaterialEntry& m : scene.denseMaterials()) {
+    if (!m.kernel) continue;
+    for (double r : m.kernel->effectiveRange()) rangeMax = std::max(rangeMax, r);
+  }
+  if (!(rangeMax > 0.0)) return levels;
+  auto clampLevels = [](double log2Ratio, int most) {
+    return std::clamp(1 + int(std::floor(std::max(log2Ratio, 0.0))), 1, most);
+  };
+  if (adaptive) {
+    // The finest texel any light view puts on the translucent objects, and the coarsest
+    // level at which such a texel, facing the light, could still be fine enough (eq. 11).
+    double texel = lightTexel(scene, translucent, resolution, true);
+    if (texel > 0.0) levels.irradiance = clampLevels(std::log2(rangeMin / (settings.alpha * texel)), maxIrradiance);
+  }
+  if (multires) {
+    // The coarsest splatting level keeps kCoarsestPixelsPerRange pixels per R_P (the longest
+    // channel's) at the translucent objects' nearest depth. It takes the profile's tail beyond
+    // R_P, a ring 0.8 R_P wide: coarser than that, upsampling blurs the ring across
+    // silhouettes and the error grows while the work hardly falls, since with eq. 14's
+    // epsilon the finest level keeps most of [0, R_P) anyway (docs/MULTIRES.md).
+    const SsCameraDesc& camera = scene.camera();
+    glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
+    glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
+    double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
+    double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
+    double pixel = extent / double(height);
+    levels.splat = clampLevels(std::log2(rangeMax / (kCoarsestPixelsPerRange * pixel)), maxSplat);
+  }
+  return levels;
+}
+
+}  // namespace subsplat

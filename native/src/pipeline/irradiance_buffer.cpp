@@ -1,0 +1,93 @@
+#include "pipeline/irradiance_buffer.h"
+
+#include <algorithm>
+
+#include "material/splat_kernel.h"
+
+namespace subsplat {
+
+void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
+  if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
+  if (resolution == resolution_ && levels == levels_ && profileSplits == profileSplits_) return;
+  // Old storage goes first (less memory at the peak), and a failed allocation leaves a buffer
+  // that the next call allocates again instead of one with mixed sizes.
+  resolution_ = levels_ = 0;
+  framebuffer_ = gl::Framebuffer();
+  for (gl::Texture* t : {&positionMaterial_, &fluxFootprint_, &normalObject_, &lightDepth_, &depthRange_, &depth_,
+                         &profileSplit_})
+    t->reset();
+  positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
+  fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
+  normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
+  lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
+  depthRange_ = gl::makeTexture2D(GL_RG32F, resolution, resolution, GL_NEAREST, levels);
+  depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
+  if (profileSplits) {
+    profileSplit_ = gl::makeTexture2D(GL_RGBA16F, resolution, resolution, GL_NEAREST, levels);
+    framebuffer_ = gl::makeFramebuffer(
+        {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id(), profileSplit_.id()},
+        depth_.id());
+  } else {
+    profileSplit_ = gl::Texture();
+    framebuffer_ = gl::makeFramebuffer(
+        {positionMaterial_.id(), fluxFootprint_.id(), normalObject_.id(), lightDepth_.id()}, depth_.id());
+  }
+  resolution_ = resolution;
+  levels_ = levels;
+  profileSplits_ = profileSplits;
+}
+
+void IrradianceBuffer::buildHierarchy() {
+  if (levels_ <= 1) return;
+  if (!reduceProgram_) reduceProgram_ = gl::makeComputeProgram("irradiance_reduce.comp");
+  GLuint p = reduceProgram_.id();
+  glUseProgram(p);
+  for (int fine = 0; fine + 1 < levels_; ++fine) {
+    int size = std::max(resolution_ >> (fine + 1), 1);
+    bindTexture(gl::UNIT_FINE_POSITION_MATERIAL, GL_TEXTURE_2D, positionMaterial_.id());
+    bindTexture(gl::UNIT_FINE_FLUX_FOOTPRINT, GL_TEXTURE_2D, fluxFootprint_.id());
+    bindTexture(gl::UNIT_FINE_NORMAL_OBJECT, GL_TEXTURE_2D, normalObject_.id());
+    bindTexture(gl::UNIT_FINE_DEPTH_RANGE, GL_TEXTURE_2D, fine == 0 ? lightDepth_.id() : depthRange_.id());
+    glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
+    if (profileSplits_) {
+      bindTexture(gl::UNIT_FINE_PROFILE_SPLIT, GL_TEXTURE_2D, profileSplit_.id());
+      glBindImageTexture(gl::IMAGE_COARSE_PROFILE_SPLIT, profileSplit_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    }
+    glUniform1i(uniform(p, "fineLevel"), fine);
+    glUniform2i(uniform(p, "coarseSize"), size, size);
+    glBindImageTexture(gl::IMAGE_COARSE_POSITION_MATERIAL, positionMaterial_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_FLUX_FOOTPRINT, fluxFootprint_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_NORMAL_OBJECT, normalObject_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(gl::IMAGE_COARSE_DEPTH_RANGE, depthRange_.id(), fine + 1, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glDispatchCompute(GLuint((size + 7) / 8), GLuint((size + 7) / 8), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  gl::checkErrors("irradiance hierarchy");
+}
+
+void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, resolution_, resolution_);
+  const float empty[4] = {0, 0, 0, -2}, zero[4] = {0, 0, 0, 0}, far[4] = {1e30f, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, empty);
+  glClearBufferfv(GL_COLOR, 1, zero);
+  glClearBufferfv(GL_COLOR, 2, empty);
+  glClearBufferfv(GL_COLOR, 3, far);
+  if (profileSplits_) glClearBufferfv(GL_COLOR, 4, zero);
+  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  GLuint p = program_.id();
+  glUseProgram(p);
+  setLightUniforms(p, view);
+  glUniform1i(uniform(p, "resolution"), resolution_);
+  glUniform1f(uniform(p, "orthoTexelArea"), view.orthoTexelArea);
+  glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
+  glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
+  glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
+  drawMeshes(scene, gpu, p, view.viewProj);
+  glDisable(GL_DEPTH_TEST);
+}
+
+}  // namespace subsplat

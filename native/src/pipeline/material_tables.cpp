@@ -1,0 +1,76 @@
+#include "pipeline/material_tables.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "material/splat_kernel.h"
+
+namespace subsplat {
+
+void MaterialTables::update(const Scene& scene, float epsilon) {
+  if (uploadedMaterialVersion_ == scene.materialVersion() && materialBuffer_ && uploadedEpsilon_ == epsilon) return;
+  const auto& materials = scene.denseMaterials();
+  std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
+  int layers = 0;
+  uint32_t mapOffset = 0;
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const MaterialEntry& e = materials[i];
+    const SsMaterialDesc& d = e.desc;
+    MaterialGpu& g = gpu[i];
+    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], isTranslucent(d) ? 1.0f : 0.0f},
+                    {d.eta, d.roughness, d.specular, 0.0f},
+                    {0, 0, 0, 0},
+                    {0, 0, 0, uint32_t(e.base)}};
+    if (e.mapped()) {
+      g.profileMap[0] = mapOffset;
+      g.profileMap[1] = uint32_t(e.profiles->width());
+      g.profileMap[2] = uint32_t(e.profiles->height());
+      if (i + 1 == materials.size() || materials[i + 1].base != e.base) mapOffset += uint32_t(e.profiles->map().size());
+    }
+    if (e.kernel) {
+      const SplatKernel& k = *e.kernel;
+      g.optics[3] = float(layers++);
+      g.ranges[0] = float(k.supportRadius());
+      g.ranges[1] = float(std::max({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
+      g.ranges[2] = float(std::min({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
+      g.ranges[3] = d.mm_per_unit;
+    }
+  }
+  materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
+  kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
+                                        std::max(layers, 1), GL_LINEAR);
+  for (size_t i = 0; i < materials.size(); ++i) {
+    if (!materials[i].kernel) continue;
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].optics[3]), SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
+                    GL_RGBA, GL_FLOAT, materials[i].kernel->table().data());
+  }
+  // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change:
+  // over the mean normalised profile of the material's entries (eq. 15, 16),
+  // weighted by how many texels of its map have each.
+  std::vector<float> radii(size_t(SplatKernel::kRadiusTableSize) * std::max(layers, 1), 0.0f);
+  for (size_t first = 0; first < materials.size();) {
+    size_t end = first + 1;
+    while (end < materials.size() && materials[end].base == materials[first].base) ++end;
+    if (materials[first].kernel) {
+      std::vector<std::pair<const SplatKernel*, double>> kernels;
+      for (size_t i = first; i < end; ++i) {
+        const MaterialEntry& e = materials[i];
+        double weight = e.mapped() ? double(e.profiles->texelCounts()[i - first]) : 1.0;
+        kernels.emplace_back(e.kernel.get(), weight);
+      }
+      std::vector<float> row = SplatKernel::minimalRadiusTable(kernels, epsilon);
+      for (size_t i = first; i < end; ++i)
+        std::copy(row.begin(), row.end(), radii.begin() + size_t(gpu[i].optics[3]) * SplatKernel::kRadiusTableSize);
+    }
+    first = end;
+  }
+  minimalRadius_ = gl::makeTexture2D(GL_R32F, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_LINEAR);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_RED, GL_FLOAT,
+                  radii.data());
+  kernelLayers_ = std::max(layers, 1);
+  gl::checkErrors("material upload");
+  uploadedMaterialVersion_ = scene.materialVersion();
+  uploadedEpsilon_ = epsilon;
+}
+
+}  // namespace subsplat

@@ -1,0 +1,45 @@
+// The material tables the passes read: one MaterialGpu record per dense
+// material entry, the splat kernel table of every translucent entry (one
+// layer each) and eq. 14's R-bar table.
+#pragma once
+
+#include <cstdint>
+
+#include "gl/gl.h"
+#include "scene.h"
+
+namespace subsplat {
+
+// The GPU layout of one entry (common.glsl: Material).
+struct MaterialGpu {
+  float baseColorKind[4];
+  float optics[4];
+  float ranges[4];
+  uint32_t profileMap[4];
+};
+
+// The per-material tables the splat shaders read.
+struct KernelTables {
+  GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material entry
+  GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
+  int layers = 1;
+};
+
+class MaterialTables {
+ public:
+  // Packs the scene's dense material entries (resolved) into the tables, again
+  // only when the materials or epsilon (eq. 14) changed since the last call.
+  void update(const Scene& scene, float epsilon);
+  // Shader storage: one MaterialGpu per dense entry.
+  GLuint materials() const { return materialBuffer_.id(); }
+  KernelTables kernels() const { return {kernelTable_.id(), minimalRadius_.id(), kernelLayers_}; }
+
+ private:
+  gl::Buffer materialBuffer_;
+  gl::Texture kernelTable_, minimalRadius_;
+  int kernelLayers_ = 1;
+  float uploadedEpsilon_ = -1.0f;
+  uint64_t uploadedMaterialVersion_ = ~0ull;
+};
+
+}  // namespace subsplat

@@ -1,0 +1,58 @@
+#include "pipeline/pass_helpers.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+
+namespace subsplat {
+
+GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+
+void bindTexture(int unit, GLenum target, GLuint texture) {
+  glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+  glBindTexture(target, texture);
+  glBindSampler(GLuint(unit), 0);  // the texture's own filtering and wrapping, not the host's sampler
+}
+
+void setLightUniforms(GLuint program, const LightView& view) {
+  const SsLightDesc& l = *view.light;
+  float scale = l.type == SS_LIGHT_SUN ? 1.0f : 1.0f / (4.0f * float(M_PI));  // W -> W/sr
+  glm::vec3 radiant = glm::make_vec3(l.color) * (l.strength * scale);
+  glm::vec3 direction = l.type == SS_LIGHT_POINT ? glm::vec3(0, 0, -1)
+                                                 : glm::normalize(glm::make_vec3(l.direction));
+  float cosHalf = std::cos(0.5f * l.spot_size);
+  glUniformMatrix4fv(uniform(program, "lightViewProj"), 1, GL_FALSE, glm::value_ptr(view.viewProj));
+  glUniform3fv(uniform(program, "lightPosition"), 1, l.position);
+  glUniform3fv(uniform(program, "lightDirection"), 1, glm::value_ptr(direction));
+  glUniform3fv(uniform(program, "lightRadiant"), 1, glm::value_ptr(radiant));
+  glUniform1i(uniform(program, "lightType"), l.type);
+  glUniform1f(uniform(program, "lightCosHalfSpot"), l.type == SS_LIGHT_SPOT ? cosHalf : -2.0f);
+  glUniform1f(uniform(program, "lightSpotSmooth"), (1.0f - cosHalf) * l.spot_blend);
+}
+
+void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj) {
+  glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+  bindTexture(gl::UNIT_PROFILE_MAPS, GL_TEXTURE_BUFFER, gpu.profileMaps());
+  for (const auto& [id, mesh] : scene.meshes()) {
+    glm::mat3 normalToWorld = glm::transpose(glm::inverse(glm::mat3(mesh.objectToWorld)));
+    glUniformMatrix4fv(uniform(program, "objectToWorld"), 1, GL_FALSE,
+                       glm::value_ptr(mesh.objectToWorld));
+    glUniformMatrix3fv(uniform(program, "normalToWorld"), 1, GL_FALSE, glm::value_ptr(normalToWorld));
+    glUniform1f(uniform(program, "objectIndex"), float(mesh.index));
+    glUniform1i(uniform(program, "meshHasUvs"), mesh.hasUvs() ? 1 : 0);
+    const GpuMesh& buffers = gpu.mesh(id);
+    bindTexture(gl::UNIT_TRIANGLE_MATERIALS, GL_TEXTURE_BUFFER, buffers.triangleMaterials.id());
+    glBindVertexArray(buffers.vertexArray.id());
+    glDrawElements(GL_TRIANGLES, GLsizei(3 * mesh.triangleCount), GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+}
+
+void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
+  glm::vec3 position = cameraPosition(camera), forward = cameraForward(camera);
+  glUniform3fv(uniform(program, "cameraPosition"), 1, glm::value_ptr(position));
+  glUniform3fv(uniform(program, "cameraForward"), 1, glm::value_ptr(forward));
+  glUniform1i(uniform(program, "orthographic"), camera.orthographic);
+}
+
+}  // namespace subsplat

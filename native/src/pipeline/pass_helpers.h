@@ -1,0 +1,27 @@
+// What the passes share: uniform look-ups, the light and camera uniforms,
+// texture binding by the binding table, and drawing the scene's meshes.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "gl/gl.h"
+#include "pipeline/gpu_scene.h"
+#include "pipeline/light_views.h"
+#include "scene.h"
+#include "util/camera.h"
+
+namespace subsplat {
+
+// Uniform helpers shared by the passes.
+GLint uniform(GLuint program, const char* name);
+void setLightUniforms(GLuint program, const LightView& view);
+// Binds `texture` on a unit of the binding table (gl/bindings.h), which the shaders name, and
+// no sampler object there (a host's sampler would override the texture's filtering).
+void bindTexture(int unit, GLenum target, GLuint texture);
+
+// Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
+void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj);
+// cameraPosition, cameraForward and orthographic as uniforms.
+void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
+
+}  // namespace subsplat

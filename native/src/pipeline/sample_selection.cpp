@@ -1,0 +1,35 @@
+#include "pipeline/sample_selection.h"
+
+#include <algorithm>
+
+namespace subsplat {
+
+void setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                          const SplattingBuffer& splatting, const Selection& selection, GLint offsets[9]) {
+  int res = irradiance.resolution();
+  glUniform1i(uniform(p, "resolution"), res);
+  setLightUniforms(p, view);
+  int levels = selection.levels;
+  for (int k = 0; k < 9; ++k) offsets[k] = 0;
+  for (int k = 0; k < levels; ++k) {
+    int size = std::max(res >> k, 1);
+    offsets[k + 1] = offsets[k] + size * size;
+  }
+  for (int k = levels + 1; k < 9; ++k) offsets[k] = offsets[levels];
+  glUniform1i(uniform(p, "levels"), levels);
+  glUniform1iv(uniform(p, "levelOffset"), 9, offsets);
+  glUniform1f(uniform(p, "z0"), selection.z0);
+  glUniform1f(uniform(p, "alpha"), selection.alpha);
+  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
+  glUniformMatrix4fv(uniform(p, "worldToView"), 1, GL_FALSE, scene.camera().world_to_view);
+  glUniformMatrix4fv(uniform(p, "viewToClip"), 1, GL_FALSE, scene.camera().view_to_clip);
+  bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, irradiance.positionMaterial());
+  bindTexture(gl::UNIT_IRRADIANCE_FLUX_FOOTPRINT, GL_TEXTURE_2D, irradiance.fluxFootprint());
+  bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, irradiance.normalObject());
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_IRRADIANCE_DEPTH_RANGE, GL_TEXTURE_2D, irradiance.depthRange());
+  glUniform1i(uniform(p, "profileSplits"), irradiance.profileSplits() ? 1 : 0);
+  if (irradiance.profileSplits()) bindTexture(gl::UNIT_IRRADIANCE_PROFILE_SPLIT, GL_TEXTURE_2D, irradiance.profileSplit());
+}
+
+}  // namespace subsplat

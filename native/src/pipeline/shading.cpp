@@ -1,0 +1,71 @@
+#include "pipeline/shading.h"
+
+namespace subsplat {
+
+void Shading::resize(int width, int height) {
+  if (!directProgram_) {
+    directProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag");
+    finalProgram_ = gl::makeProgram("fullscreen.vert", "", "final_shading.frag");
+    empty_ = gl::makeVertexArray();
+  }
+  if (width == width_ && height == height_) return;
+  width_ = height_ = 0;  // as in IrradianceBuffer::resize
+  directFramebuffer_.reset();
+  resultFramebuffer_.reset();
+  direct_.reset();
+  result_.reset();
+  direct_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  result_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  directFramebuffer_ = gl::makeFramebuffer({direct_.id()}, 0);
+  resultFramebuffer_ = gl::makeFramebuffer({result_.id()}, 0);
+  width_ = width;
+  height_ = height;
+}
+
+void Shading::clear() {
+  glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
+  const float zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+}
+
+void Shading::directLighting(const Scene& scene, const LightView& view,
+                             const IrradianceBuffer& irradiance, const SplattingBuffer& splatting) {
+  glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
+  glViewport(0, 0, width_, height_);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  GLuint p = directProgram_.id();
+  glUseProgram(p);
+  setLightUniforms(p, view);
+  setCameraUniforms(p, scene.camera());
+  glUniform1i(uniform(p, "resolution"), irradiance.resolution());
+  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
+  glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
+  glBindVertexArray(empty_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+}
+
+void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
+                           const float background[4]) {
+  glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
+  glViewport(0, 0, width_, height_);
+  GLuint p = finalProgram_.id();
+  glUseProgram(p);
+  setCameraUniforms(p, scene.camera());
+  glUniform4fv(uniform(p, "background"), 1, background);
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
+  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
+  glBindVertexArray(empty_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+}  // namespace subsplat

@@ -1,0 +1,34 @@
+// Shading (paper sec. 4, eq. 7): the direct light of each light view, then
+// the exitance through the surface (Fresnel) plus the direct light and the
+// background, into the frame's image.
+#pragma once
+
+#include "gl/gl.h"
+#include "pipeline/irradiance_buffer.h"
+#include "pipeline/light_views.h"
+#include "pipeline/splatting_buffer.h"
+#include "scene.h"
+
+namespace subsplat {
+
+class Shading {
+ public:
+  void resize(int width, int height);
+  void clear();
+  // Direct light of one light view (diffuse, specular, shadows).
+  void directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                      const SplattingBuffer& splatting);
+  // Eq. 7 and the background into `target` (RGBA32F, width x height).
+  void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
+                    const float background[4]);
+  GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
+
+ private:
+  int width_ = 0, height_ = 0;
+  gl::Program directProgram_, finalProgram_;
+  gl::VertexArray empty_;
+  gl::Texture direct_, result_;
+  gl::Framebuffer directFramebuffer_, resultFramebuffer_;
+};
+
+}  // namespace subsplat
