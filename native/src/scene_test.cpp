@@ -36,7 +36,10 @@ TEST(CpuScene, SceneFilesAndReferenceNeedNoGlContext) {
   SsLightDesc sun = testing::sunLight(3.0f, 30.0f);
   scene.setLights(&sun, 1);
   scene.setCamera(testing::topDownCamera(0.5f));
-  SsSettings settings{SS_METHOD_REFERENCE, 256, {0, 0, 0, 0}, 4000};
+  SsSettings settings{};  // zero: the defaults, as a scene file stores what it was given
+  settings.method = SS_METHOD_REFERENCE;
+  settings.irradiance_resolution = 256;
+  settings.reference_samples = 4000;
 
   std::string path = ::testing::TempDir() + "cpu_scene.ssscene";
   saveScene(scene, settings, {16, 12}, path);
