@@ -9,12 +9,10 @@ the run, Blender's resident memory stays flat. docs/RELIABILITY.md records the f
 """
 import math
 import os
-import sys
 import time
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 import bpy  # noqa: E402

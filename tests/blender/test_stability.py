@@ -13,16 +13,14 @@ Figures are printed; a plot and strips go to $SUBSPLAT_TEST_OUTPUT/stability_*.p
 bounded in test_hard_cases.py.
 """
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 import numpy as np  # noqa: E402
-import stability_cases  # noqa: E402
+from subsplat_testing import stability_cases  # noqa: E402
 
 # The flicker sphere at 40 x 40 with REFERENCE at 8000 samples a frame (CI time; bench/stability.py
 # --flicker measures every method at finer settings). FULL must select coarse samples for a good

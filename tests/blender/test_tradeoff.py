@@ -23,15 +23,12 @@ Output (charts, table, tradeoff.json): $SUBSPLAT_TEST_OUTPUT/tradeoff/.
 import json
 import math
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 helpers.enable_addon()
-sys.path.insert(0, os.path.join(helpers.SOURCE, "bench"))
-from tradeoff import front_error_at, pareto  # noqa: E402
+from subsplat_testing.accuracy import front_error_at, pareto  # noqa: E402
 
 BUILD = os.environ.get("SUBSPLAT_BUILD_DIR", os.path.join(helpers.SOURCE, "build"))
 SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose", "candle_twist", "heterogeneous")
