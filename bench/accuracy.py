@@ -19,9 +19,8 @@ import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
-import helpers  # noqa: E402
-import accuracy  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
+from subsplat_testing import accuracy, helpers  # noqa: E402
 
 
 def arguments():

@@ -1,4 +1,4 @@
-"""The stability suite's hard cases (issue 8; tests/blender/stability_cases.py): grazing light, a
+"""The stability suite's hard cases (issue 8; tests/subsplat_testing/stability_cases.py): grazing light, a
 depth discontinuity with the z0 threshold swept, a thin back-lit feature, a material discontinuity
 with lambda_m swept, short and long ranges in one object, and one object at three scales. Every
 real-time method against REFERENCE on each; a picture per set-up into docs/images/stability/ and
@@ -21,14 +21,13 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
-sys.path.append(HERE)  # after tests/blender: bench/accuracy.py is another module
-import helpers  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
+sys.path.insert(0, HERE)
+from subsplat_testing import helpers  # noqa: E402
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
 import sections  # noqa: E402
-import stability_cases  # noqa: E402
+from subsplat_testing import accuracy, stability_cases  # noqa: E402
 
 
 def arguments():

@@ -13,7 +13,7 @@ One Blender run does everything for every scene:
   SubSplat point `--runs` times in one native context: its time is the median frame, as in the
   viewport, where the context, meshes and materials stay from frame to frame;
 - EEVEE and Cycles render the same scene, with each DIPOLE material given its Principled BSDF
-  equivalent (tests/blender/accuracy.py, principled_equivalent); their time is the wall time of
+  equivalent (tests/subsplat_testing/accuracy.py, principled_equivalent); their time is the wall time of
   a render after a first one (EEVEE compiles its shaders in the first).
 Error: relative RMSE of linear radiance against REFERENCE over REFERENCE's translucent pixels.
 """
@@ -31,9 +31,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
-import accuracy  # noqa: E402
-import helpers  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
+from subsplat_testing import accuracy, helpers  # noqa: E402
+from subsplat_testing.accuracy import front_error_at, pareto  # noqa: E402
 
 SCENES = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose", "candle_twist", "heterogeneous")
 DEFAULTS = {"irradiance": 512, "alpha": 15.0, "levels": 0, "epsilon": 0.001}  # manual quality's
@@ -262,21 +262,6 @@ def foreign_points(args, name, scene, truth, mask):
     return results
 
 
-def pareto(points):
-    """The points no other point beats in both time and error, fastest first."""
-    front, best = [], float("inf")
-    for p in sorted(points, key=lambda p: (p["ms"], p["error"])):
-        if p["error"] < best:
-            front.append(p)
-            best = p["error"]
-    return front
-
-
-def front_error_at(front, ms):
-    """The Pareto front's error at a frame time: the lowest error of the points no slower."""
-    return min((p["error"] for p in front if p["ms"] <= ms), default=float("inf"))
-
-
 def summary(points, front):
     """Lines on where the defaults and the other engines stand against the front."""
     lines = ["On the front: " + "; ".join(f"{p['label']} ({p['ms']:.0f} ms, {p['error']:.4f})" for p in front) + "."]
@@ -375,7 +360,7 @@ def write_document(args, results):
                          f"{'yes' if p in front else ''} |")
         lines.append("")
     lines += ["## The same materials in EEVEE and Cycles", "",
-              "Each DIPOLE material becomes a Principled BSDF (`principled_equivalent` in tests/blender/accuracy.py): "
+              "Each DIPOLE material becomes a Principled BSDF (`principled_equivalent` in tests/subsplat_testing/accuracy.py): "
               "Random Walk subsurface, Subsurface Radius = 1 / sigma_t' per channel in scene units, Subsurface "
               "Color (and Base Color) = the surface albedo whose random walk has single-scattering albedo "
               "sigma_s' / sigma_t' (the inverse of Cycles 3.x's albedo mapping), Subsurface = 1, IOR = eta, "

@@ -25,10 +25,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender_ui"))
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
+sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
 import sections  # noqa: E402
-from ui_helpers import areas, drawn, enable_addon, run_steps  # noqa: E402
+from subsplat_testing.ui_helpers import areas, drawn, enable_addon, run_steps  # noqa: E402
 
 EXAMPLES = ("skin_suzanne", "marble_pieces", "wax_jade", "heterogeneous", "candle_twist", "finger_pose")
 COMMAND = ('BLENDER_USER_SCRIPTS=build/scripts xvfb-run -a -s "-screen 0 1280x800x24" '

@@ -21,7 +21,9 @@ class SceneFile : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
-    path = ::testing::TempDir() + "subsplat_scene_file_test.ssscene";
+    // One file per test: CTest runs the tests in parallel, each in a process of its own.
+    path = ::testing::TempDir() + "subsplat_scene_file_test_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".ssscene";
   }
   void TearDown() override {
     EXPECT_EQ(ssReleaseContext(context), SS_OK);

@@ -7,14 +7,12 @@
   catch unit and radiometry mistakes (factors), not model differences (percents).
 """
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 
 # Measured on this project's machine (llvmpipe), 25 % of 800 x 600, REFERENCE at 200 000
 # samples (docs/ACCURACY.md has the figures at 50 %). Radiance is bounded without its worst

@@ -11,11 +11,9 @@ Images of the compared frames and of any difference go to $SUBSPLAT_TEST_OUTPUT/
 """
 import glob
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 import bpy  # noqa: E402

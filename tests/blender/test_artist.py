@@ -1,18 +1,15 @@
 """The artist model (source 'ARTIST'): a translucency image shaped like a dipole's profile, with the
 dipole's albedo and its range as the radius, renders the dipole's image; an albedo image varies it
 per texel; missing or unusable settings fail `blender -b` with a message."""
-import os
-import sys
 import unittest
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import test_subedit  # noqa: E402
+from subsplat_testing import materials  # noqa: E402
 
 SKIN_A, SKIN_S = (0.032, 0.17, 0.48), (0.74, 0.88, 1.01)
 ETA = 1.3
@@ -44,7 +41,7 @@ def artist_skin(name):
     image = bpy.data.images.new(f"{name}Translucency", KNOTS, 1, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
     image.pixels.foreach_set(np.concatenate([curve, np.ones((KNOTS, 1))], axis=1).astype(np.float32).ravel())
-    material = test_subedit.translucent(name, mm_per_unit=MM_PER_UNIT)
+    material = materials.translucent(name, mm_per_unit=MM_PER_UNIT)
     settings = material.subsplat
     settings.source = "ARTIST"
     settings.artist_radius = radius_mm / MM_PER_UNIT
@@ -55,19 +52,19 @@ def artist_skin(name):
 
 class Artist(unittest.TestCase):
     def test_a_dipole_shaped_translucency_renders_the_dipole(self):
-        scene, _, material = test_subedit.sphere_scene(lambda: artist_skin("ArtistSkin"))
+        scene, _, material = materials.sphere_scene(lambda: artist_skin("ArtistSkin"))
         artist_image = helpers.render(scene, "artist_skin")
         material.subsplat.source = "DIPOLE"
         material.subsplat.preset = "SKIN1"
         dipole = helpers.render(scene, "artist_dipole")
-        difference = test_subedit.relative_difference(dipole, artist_image)
+        difference = materials.relative_difference(dipole, artist_image)
         print(f"DIPOLE against the artist model: relative difference {difference:.5f}")
         if difference >= 0.01:
             helpers.write_difference("artist_skin", artist_image, dipole)
         self.assertLess(difference, 0.01)
 
     def test_an_albedo_image_varies_it_per_texel(self):
-        scene, _, material = test_subedit.sphere_scene(lambda: artist_skin("ArtistHalves"))
+        scene, _, material = materials.sphere_scene(lambda: artist_skin("ArtistHalves"))
         image = bpy.data.images.new("AlbedoHalves", 2, 1, float_buffer=True)
         image.colorspace_settings.name = "Non-Color"
         image.pixels.foreach_set(np.array([0.1, 0.05, 0.05, 1.0, 0.9, 0.8, 0.7, 1.0], dtype=np.float32))
@@ -95,7 +92,7 @@ class Artist(unittest.TestCase):
                  ("black", black, "is black in channel R")]
         for name, spoil, expected in cases:
             with self.subTest(case=name):
-                _, _, material = test_subedit.sphere_scene(lambda: artist_skin("Spoilt"), size=16)
+                _, _, material = materials.sphere_scene(lambda: artist_skin("Spoilt"), size=16)
                 spoil(material)
                 material.subsplat.translucency_image and material.subsplat.translucency_image.pack()
                 helpers.assert_batch_render_fails(self, f"artist_bad_{name.replace(' ', '_')}", expected,

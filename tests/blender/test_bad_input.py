@@ -4,11 +4,9 @@ degenerate but legal one renders a finite image; no case crashes Blender (a cras
 a negative status or 128 + signal). docs/RELIABILITY.md counts the cases."""
 import math
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 import bpy  # noqa: E402

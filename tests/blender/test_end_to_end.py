@@ -4,11 +4,9 @@ import glob
 import json
 import math
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 helpers.enable_addon()
 import numpy as np  # noqa: E402

@@ -1,22 +1,20 @@
 """Failure cases of image-space splatting, tested rather than hidden: grazing light and a depth
 discontinuity render with finite values and no holes (no translucent pixel left dark where
 REFERENCE has light) for every real-time method. And bounds from the stability suite's cases
-(tests/blender/stability_cases.py, measured in full by bench/stability.py, docs/STABILITY.md):
+(tests/subsplat_testing/stability_cases.py, measured in full by bench/stability.py, docs/STABILITY.md):
 z0 keeps coarse samples from straddling a depth step, eq. 17's material weight keeps light from
 crossing profile boundaries, and one object at 1/1000 and 1000 times the size renders the image it
 renders at size 1."""
 import math
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 import numpy as np  # noqa: E402
-import stability_cases  # noqa: E402
+from subsplat_testing import stability_cases  # noqa: E402
 
 METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
 

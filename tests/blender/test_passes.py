@@ -4,14 +4,12 @@ result (compositor, image editor) and scripts (last_render_passes). With Film > 
 Combined pass has alpha 0 (and no colour) where no object is, for compositing over a plate."""
 import math
 import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 import numpy as np  # noqa: E402
 
 

@@ -2,12 +2,9 @@
 
 Every method within 3 %; REFERENCE, the ruler, within 1 %."""
 import math
-import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 

@@ -4,17 +4,15 @@ connected to the colour vary the profile per texel; unread links warn; out-of-ra
 `blender -b` with a message."""
 import math
 import os
-import sys
 import unittest
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import test_subedit  # noqa: E402
+from subsplat_testing import materials  # noqa: E402
 
 principled = subsplat.principled
 SKIN_A, SKIN_S = (0.032, 0.17, 0.48), (0.74, 0.88, 1.01)
@@ -22,7 +20,7 @@ MM_PER_UNIT = 100.0
 
 
 def principled_translucent(name, colour, radius):
-    material = test_subedit.translucent(name, mm_per_unit=MM_PER_UNIT)
+    material = materials.translucent(name, mm_per_unit=MM_PER_UNIT)
     material.use_nodes = True
     material.subsplat.source = "PRINCIPLED"
     bsdf = material.node_tree.nodes["Principled BSDF"]
@@ -46,25 +44,25 @@ class Principled(unittest.TestCase):
         np.testing.assert_allclose(sigma_s, SKIN_S, rtol=1e-4)
 
     def test_dipole_principled_and_baked_file_render_the_same_image(self):
-        scene, _, material = test_subedit.sphere_scene(lambda: skin_as_principled("SkinBSDF"))
+        scene, _, material = materials.sphere_scene(lambda: skin_as_principled("SkinBSDF"))
         material.subsplat.source = "DIPOLE"
         material.subsplat.preset = "SKIN1"
         dipole = helpers.render(scene, "principled_dipole")
         material.subsplat.source = "PRINCIPLED"
         from_bsdf = helpers.render(scene, "principled_bsdf")
-        path = test_subedit.bake(material, os.path.join(helpers.OUTPUT, "principled_skin.exr"))
+        path = materials.bake(material, os.path.join(helpers.OUTPUT, "principled_skin.exr"))
         material.subsplat.source = "SUBEDIT_FILE"
         material.subsplat.subedit_path = path
         from_file = helpers.render(scene, "principled_file")
         for name, image in (("Principled BSDF", from_bsdf), ("baked file", from_file)):
-            difference = test_subedit.relative_difference(dipole, image)
+            difference = materials.relative_difference(dipole, image)
             print(f"DIPOLE against {name}: relative difference {difference:.5f}")
             if difference >= 0.01:
                 helpers.write_difference(f"principled_{name.replace(' ', '_')}", image, dipole)
             self.assertLess(difference, 0.01, name)
 
     def test_an_image_on_the_colour_varies_the_profile_per_texel(self):
-        scene, obj, material = test_subedit.sphere_scene(lambda: skin_as_principled("Textured"))
+        scene, obj, material = materials.sphere_scene(lambda: skin_as_principled("Textured"))
         image = bpy.data.images.new("Halves", 2, 1, float_buffer=True)
         image.colorspace_settings.name = "Non-Color"
         dark, light = (0.05, 0.02, 0.01), (0.8, 0.6, 0.5)
@@ -92,7 +90,7 @@ class Principled(unittest.TestCase):
         self.assertTrue(0.1 < dark_share < 0.9, dark_share)  # both halves are seen
 
     def test_an_unread_link_warns_and_renders(self):
-        scene, _, material = test_subedit.sphere_scene(lambda: skin_as_principled("Linked"), size=24)
+        scene, _, material = materials.sphere_scene(lambda: skin_as_principled("Linked"), size=24)
         nodes = material.node_tree.nodes
         rgb = nodes.new("ShaderNodeRGB")
         material.node_tree.links.new(rgb.outputs[0], nodes["Principled BSDF"].inputs[principled.COLOR_INPUT])
@@ -112,7 +110,7 @@ class Principled(unittest.TestCase):
                   "needs a Principled BSDF node")]
         for name, spoil, expected in cases:
             with self.subTest(case=name):
-                _, _, material = test_subedit.sphere_scene(lambda: skin_as_principled("Spoilt"), size=16)
+                _, _, material = materials.sphere_scene(lambda: skin_as_principled("Spoilt"), size=16)
                 spoil(material)
                 helpers.assert_batch_render_fails(self, f"principled_bad_{name.replace(' ', '_')}", expected,
                                                   "material 'Spoilt'")

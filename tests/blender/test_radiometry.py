@@ -1,12 +1,9 @@
 """Radiometry against Cycles: a Lambertian plane lit by a point, a spot and a sun light,
 rendered by SubSplat and by Cycles in the same run; mean radiance of the lit region within 3 %."""
 import math
-import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 

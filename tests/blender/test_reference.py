@@ -1,14 +1,11 @@
 """REFERENCE through the engine: progress reaches Blender, a cancel stops it, and the same
 scene renders the same image twice."""
-import os
-import sys
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 
 
 def slab(size=32):

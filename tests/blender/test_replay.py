@@ -4,16 +4,14 @@ bench/replay.py needs (per-stage and per-level time and fragments, RMSE against 
 import json
 import os
 import subprocess
-import sys
 import unittest
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-import accuracy  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 
 BUILD = os.environ.get("SUBSPLAT_BUILD_DIR", os.path.join(helpers.SOURCE, "build"))
 REPLAY = os.path.join(BUILD, "native", "subsplat_replay")

@@ -6,22 +6,26 @@ moves and rescales the lights, every 10th adds or removes a second light, and ev
 removes an object whose vertex count changes each time. After each render: no error, finite
 pixels, translucent pixels lit, no native context, GL object or byte of GPU memory still held; over
 the run, Blender's resident memory stays flat. docs/RELIABILITY.md records the figures it prints.
+CI renders 300 times (every change above recurs at least 12 times) and bounds the memory's growth
+over the last 200; the slow tier (SUBSPLAT_SLOW=1, bench/slow.sh) renders 1000 times and also
+bounds its slope. SUBSPLAT_SOAK_RENDERS sets any other count.
 """
 import math
 import os
-import sys
 import time
 import unittest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-RENDERS = int(os.environ.get("SUBSPLAT_SOAK_RENDERS", "1000"))
+RENDERS = int(os.environ.get("SUBSPLAT_SOAK_RENDERS", "1000" if helpers.SLOW else "300"))
 PRESETS = [key for key in subsplat.presets.MEASURED_MEDIA]
+# Renders that fill the caches (shaders, kernel tables, the SubEdit file's profiles) before memory
+# must stay flat: one cycle of the presets and scales (99 renders with 11 presets and 9 scales).
+SETTLE = min(100, RENDERS // 2)
 
 
 def resident_bytes():
@@ -114,15 +118,19 @@ class ThousandRendersLeaveNothingBehind(unittest.TestCase):
         # The first renders fill caches (shaders, kernel tables, the SubEdit file's profiles); after
         # them resident memory must stay flat: no steady slope (one frame's mesh arrays are ~150 KiB)
         # and growth over the rest below 32 MiB (the allocator has been seen to step up 13.6 MiB once).
-        settled = np.asarray(memory[RENDERS // 10:], dtype=np.float64)
+        # The slope needs the slow tier's 900 renders after the first 100: over CI's 200, a passing rise
+        # and fall of 16 MiB gave 57 KiB per render. CI asserts the growth (and, after every render,
+        # that the library holds nothing).
+        settled = np.asarray(memory[SETTLE:], dtype=np.float64)
         growth = settled[-1] - settled[0]
         slope = np.polyfit(np.arange(len(settled)), settled, 1)[0]
         print(f"soak: {RENDERS} renders in {seconds:.0f} s ({1e3 * seconds / RENDERS:.0f} ms each); resident memory "
-              f"{memory[0] / 2**20:.1f} MiB after the first, {settled[0] / 2**20:.1f} MiB after {RENDERS // 10}, "
+              f"{memory[0] / 2**20:.1f} MiB after the first, {settled[0] / 2**20:.1f} MiB after {SETTLE}, "
               f"{settled[-1] / 2**20:.1f} MiB after {RENDERS}, largest {max(memory) / 2**20:.1f} MiB; "
               f"slope {slope / 1024:.2f} KiB per render", flush=True)
         self.assertLess(growth, 32 * 2**20)
-        self.assertLess(slope, 16 * 1024)
+        if RENDERS >= 1000:
+            self.assertLess(slope, 16 * 1024)
 
 
 if __name__ == "__main__":

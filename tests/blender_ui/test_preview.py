@@ -5,13 +5,11 @@ paler, bluer one when the material becomes marble; after each, Python may still 
 Run as CTest's blender_ui_test_preview does. The icons go to $SUBSPLAT_TEST_OUTPUT/preview_*.png.
 """
 import os
-import sys
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ui_helpers import OUTPUT, areas, check, close_splash, enable_addon, redraw, run_steps  # noqa: E402
+from subsplat_testing.ui_helpers import OUTPUT, areas, check, close_splash, enable_addon, redraw, run_steps
 
 
 def icon(material):

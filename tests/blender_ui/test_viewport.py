@@ -14,14 +14,11 @@ Run: xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python t
 passes, 1 otherwise; screenshots go to $SUBSPLAT_TEST_OUTPUT/viewport_*.png.
 """
 import math
-import os
-import sys
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, enable_addon, redraw,  # noqa: E402
+from subsplat_testing.ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, enable_addon, redraw,
                         region, run_steps, screenshot)
 
 

@@ -15,13 +15,11 @@ Run as CTest's blender_ui_test_viewport_animation does (xvfb-run ... blender --f
 """
 import gc
 import os
-import sys
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ui_helpers import (areas, check, crop_region, drawn, enable_addon, redraw, region, run_steps,  # noqa: E402
+from subsplat_testing.ui_helpers import (areas, check, crop_region, drawn, enable_addon, redraw, region, run_steps,
                         screenshot)
 
 SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))

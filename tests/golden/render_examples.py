@@ -2,7 +2,8 @@
 linear float EXR files, for golden-image and before/after comparisons.
 
     BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
-        --python tests/golden/render_examples.py -- --out DIR [--percentage 10] [--methods FULL,BRUTE]
+        --python tests/golden/render_examples.py -- --out DIR [--percentage 10] [--methods FULL,BRUTE] \
+        [--depth 16]
 
 Names: DIR/<example>_<method>_f<frame>.exr. The animated examples render frame 1 and a deformed
 frame; the others frame 1. Exits 1 if a render fails.
@@ -27,6 +28,7 @@ def arguments():
     parser.add_argument("--methods", default=",".join(METHODS))
     parser.add_argument("--examples", default="", help="comma-separated names; all by default")
     parser.add_argument("--reference-samples", type=int, default=20000)
+    parser.add_argument("--depth", choices=("16", "32"), default="32", help="EXR float bits (16: the golden images)")
     return parser.parse_args(argv)
 
 
@@ -51,7 +53,7 @@ def main():
                 scene.subsplat.reference_samples = args.reference_samples
                 scene.frame_set(frame)
                 scene.render.image_settings.file_format = "OPEN_EXR"
-                scene.render.image_settings.color_depth = "32"
+                scene.render.image_settings.color_depth = args.depth
                 scene.render.image_settings.exr_codec = "ZIP"
                 out = os.path.join(args.out, f"{name}_{method}_f{frame}.exr")
                 scene.render.filepath = out

@@ -124,7 +124,11 @@ TEST(ProfileSet, ManyProfilesAreClusteredIntoThePalette) {
 
 class SubEditFile : public ::testing::Test {
  protected:
-  void SetUp() override { path = ::testing::TempDir() + "subsplat_subedit_test.exr"; }
+  // One file per test: CTest runs the tests in parallel, each in a process of its own.
+  void SetUp() override {
+    path = ::testing::TempDir() + "subsplat_subedit_test_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".exr";
+  }
   void TearDown() override { std::remove(path.c_str()); }
   // An EXR of the given channels (all `value`) and metadata, for bad-input cases.
   void writeExr(int width, int height, const std::vector<std::string>& channels, float value,

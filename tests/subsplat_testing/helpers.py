@@ -11,6 +11,10 @@ import numpy as np
 OUTPUT = os.environ.get("SUBSPLAT_TEST_OUTPUT", os.path.join(tempfile.gettempdir(), "subsplat_tests"))
 SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
 os.makedirs(OUTPUT, exist_ok=True)
+# The test's CTest timeout in seconds (tests/CMakeLists.txt): Blender processes a test starts end within it.
+TIMEOUT = float(os.environ.get("SUBSPLAT_TEST_TIMEOUT", "900"))
+# The slow tier (bench/slow.sh, CTest label slow): the full-size runs of the tests CI runs reduced.
+SLOW = os.environ.get("SUBSPLAT_SLOW") == "1"
 
 
 def machine():

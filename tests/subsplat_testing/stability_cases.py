@@ -14,8 +14,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
-import accuracy
-import helpers
+from subsplat_testing import accuracy, helpers
 
 METHODS = ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL")
 # What every case renders unless it says otherwise: the paper's defaults, a 512^2 irradiance buffer
@@ -147,9 +146,9 @@ def thin_ear(size):
 
 
 def board_file(path):
-    """Marble and skin squares, 8 x 8 (test_subedit's chessboard)."""
-    import test_subedit
-    test_subedit.chessboard_file(path, squares=8)
+    """Marble and skin squares, 8 x 8 (materials.chessboard_file's)."""
+    from subsplat_testing import materials
+    materials.chessboard_file(path, squares=8)
 
 
 def two_ranges_file(path, ratio=20.0):

@@ -9,7 +9,7 @@ import os
 import bpy
 import numpy as np
 
-import helpers
+from subsplat_testing import helpers
 
 EXAMPLES = ("skin_suzanne", "marble_pieces", "wax_jade")
 # Methods charted against REFERENCE.
@@ -204,3 +204,20 @@ def reference_against_cycles(preset, mm_per_unit=100.0, cycles_samples=128, refe
     ours = helpers.centre(reference, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
     theirs = helpers.centre(cycles, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
     return ours, theirs, ours / theirs
+
+
+def pareto(points, cost="ms"):
+    """The points no other point beats in both cost (frame time "ms", or "fragments", the
+    fragment-shader invocations of a frame) and error, cheapest first (bench/tradeoff.py's charts,
+    test_tradeoff.py)."""
+    front, best = [], float("inf")
+    for p in sorted(points, key=lambda p: (p[cost], p["error"])):
+        if p["error"] < best:
+            front.append(p)
+            best = p["error"]
+    return front
+
+
+def front_error_at(front, at, cost="ms"):
+    """The Pareto front's error at a cost: the lowest error of the points no costlier."""
+    return min((p["error"] for p in front if p[cost] <= at), default=float("inf"))

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About 70
+# minutes on 2 cores:
+#   - the soak: 1000 renders in one Blender process (CI: 300);
+#   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
+#     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);
+#   - the stability test over 60 frames of the moving light and 5 of the deformation (CI: 20 and 3),
+#     and the full sweep of bench/stability.py with the flicker (docs/STABILITY.md's command).
+# Each is a CTest test labelled slow (tests/CMakeLists.txt), run one at a time so that their
+# figures are not shared with other work. Results: the figures each prints, in build/slow.log;
+# the documents and images of the sweeps (TRADEOFF.md, STABILITY.md, images/) in
+# build/test_output/slow_tradeoff_sweep/ and build/test_output/slow_stability_sweep/, to copy into
+# docs/ when they are to replace its figures.
+#   bash bench/slow.sh [ctest options, e.g. -R soak]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+[ -d build ] || bash scripts/setup.sh
+cmake --build build -j"$(nproc)"
+cd build
+ctest -L '^slow$' -V "$@" 2>&1 | tee slow.log

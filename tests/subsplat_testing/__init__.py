@@ -1,0 +1,11 @@
+"""What the tests share (tests/blender, tests/blender_ui, tests/golden) and the benchmarks (bench/) use:
+
+- helpers: scenes, rendering to float arrays, other Blender processes, the unittest runner;
+- accuracy: the examples opened for measurement, REFERENCE and the error figures;
+- materials: translucent materials, the lit sphere, baking, SubEdit chessboards;
+- stability_cases: the hard cases and the moving-light and deformation runs;
+- ui_helpers: Blender with its UI under Xvfb (timer-driven steps, screenshots).
+
+Found through PYTHONPATH: CTest sets it to tests/ for every test (tests/CMakeLists.txt), and
+bench/ scripts put tests/ on sys.path themselves.
+"""
