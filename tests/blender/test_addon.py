@@ -4,15 +4,12 @@ viewport keeps a mesh it failed to send, and the material panel asks the library
 material changed."""
 import ctypes
 import gc
-import os
-import sys
 import types
 import unittest
 
 import bpy
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import helpers  # noqa: E402
+from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
 native = subsplat.native
