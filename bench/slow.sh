@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About 70
-# minutes on 2 cores:
+# The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About an
+# hour on 2 cores:
 #   - the soak: 1000 renders in one Blender process (CI: 300);
 #   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
 #     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);
