@@ -270,15 +270,6 @@ std::string glState() {
   return std::string(text.data(), length);
 }
 
-// The lines of `after` that differ from `before` ("" when none).
-std::string changed(const std::string& before, const std::string& after) {
-  std::istringstream a(before), b(after);
-  std::string x, y, out;
-  while (std::getline(a, x) && std::getline(b, y))
-    if (x != y) out += x + " -> " + y.substr(y.find('=') + 1) + "\n";
-  return out;
-}
-
 // The library leaves the host's GL state as it found it: every item ssDescribeGlState reports
 // (queried apart from StateGuard) is the same after uploads, renders and passes of each method.
 TEST(ApiGlState, EveryCallLeavesTheHostStateAsItWas) {
@@ -320,7 +311,7 @@ TEST(ApiGlState, EveryCallLeavesTheHostStateAsItWas) {
   ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
   testing::Sphere sphere;
   ASSERT_EQ(testing::setLitSphere(context, sphere, testing::skinMaterial(100.0f)), SS_OK) << ssGetLastError();
-  EXPECT_EQ(changed(before, glState()), "") << "after the uploads";
+  EXPECT_EQ(testing::changedLines(before, glState()), "") << "after the uploads";
   std::vector<float> rgba(24 * 24 * 4);
   for (SsMethod method : {SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL}) {
     SsSettings settings{};
@@ -330,14 +321,14 @@ TEST(ApiGlState, EveryCallLeavesTheHostStateAsItWas) {
     settings.debug_passes = 1;
     ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
     ASSERT_EQ(ssRender(context, 24, 24, rgba.data()), SS_OK) << ssGetLastError();
-    EXPECT_EQ(changed(before, glState()), "") << "after a render, method " << method;
+    EXPECT_EQ(testing::changedLines(before, glState()), "") << "after a render, method " << method;
     for (int32_t pass : {SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE})
       ASSERT_EQ(ssGetPass(context, pass, 24, 24, rgba.data()), SS_OK) << ssGetLastError();
-    EXPECT_EQ(changed(before, glState()), "") << "after the passes, method " << method;
+    EXPECT_EQ(testing::changedLines(before, glState()), "") << "after the passes, method " << method;
   }
   ASSERT_EQ(ssRemoveMesh(context, 0), SS_OK);
   ASSERT_EQ(ssReleaseContext(context), SS_OK);
-  EXPECT_EQ(changed(before, glState()), "") << "after the release";
+  EXPECT_EQ(testing::changedLines(before, glState()), "") << "after the release";
   glDeleteTextures(1, &texture);
   glDeleteBuffers(1, &buffer);
   glDeleteVertexArrays(1, &vertexArray);

@@ -78,15 +78,6 @@ std::string bindings() {
   return out.str();
 }
 
-// The lines of `after` that differ from `before` ("" when none).
-std::string changed(const std::string& before, const std::string& after) {
-  std::istringstream a(before), b(after);
-  std::string x, y, out;
-  while (std::getline(a, x) && std::getline(b, y))
-    if (x != y) out += x + " -> " + y.substr(y.find('=') + 1) + "\n";
-  return out;
-}
-
 // What Blender's GPU module leaves bound when it calls a render engine: its own textures of
 // every target on every unit, with a sampler object on each (glBindSamplers) whose filtering
 // and wrapping differ from the library's (NEAREST, REPEAT), an image on every image unit, and
@@ -205,7 +196,7 @@ TEST_F(GlState, BlenderLikeHostStateChangesNeitherTheHeterogeneousImageNorAnyBin
   BlenderLikeHostState host;
   const std::string before = bindings();
   const std::vector<float> hosted = render();
-  EXPECT_EQ(changed(before, bindings()), "") << "bindings the render left changed";
+  EXPECT_EQ(testing::changedLines(before, bindings()), "") << "bindings the render left changed";
   ASSERT_EQ(hosted.size(), clean.size());
   size_t differing = 0;
   for (size_t i = 0; i < clean.size(); ++i)

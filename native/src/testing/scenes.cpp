@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 
 namespace subsplat::testing {
 
@@ -117,6 +118,14 @@ SsLightDesc sunLight(float strength, float incidenceDegrees) {
   l.direction[0] = std::sin(t);
   l.direction[2] = -std::cos(t);
   return l;
+}
+
+std::string changedLines(const std::string& before, const std::string& after) {
+  std::istringstream a(before), b(after);
+  std::string x, y, out;
+  while (std::getline(a, x) && std::getline(b, y))
+    if (x != y) out += x + " -> " + y.substr(y.find('=') + 1) + "\n";
+  return out;
 }
 
 }  // namespace subsplat::testing

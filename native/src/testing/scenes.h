@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <string>
 #include <vector>
 
 #include "subsplat/subsplat.h"
@@ -39,5 +40,9 @@ SsStatus setLitSphere(SsContext context, const Sphere& sphere, const SsMaterialD
 // Orthographic camera looking down -z at the origin from z = 5.
 SsCameraDesc topDownCamera(float halfWidth);
 SsLightDesc sunLight(float strength, float incidenceDegrees);
+
+// The lines of `after` ("name=value" lines, as ssDescribeGlState writes) that differ from
+// `before`, each as "before -> new value" ("" when none): the GL state tests' report.
+std::string changedLines(const std::string& before, const std::string& after);
 
 }  // namespace subsplat::testing
