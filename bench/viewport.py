@@ -178,7 +178,7 @@ def write(table, big, repeats):
     table.sort(key=lambda row: (EXAMPLES.index(row["scene"]) if row["scene"] in EXAMPLES else 99, row["scale"]))
     with open(path, "w") as f:
         json.dump({"scenes": table, "big_mesh": big}, f, indent=1)
-    import helpers
+    from subsplat_testing import helpers
     revision = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                               text=True).stdout.strip()
     import gpu

@@ -88,7 +88,7 @@ class SubEditFiles(unittest.TestCase):
         the band is at most 2x the error elsewhere, for BRUTE and FULL. With texels as large as
         skin's R_P (256^2, coarser than eq. 11 asks for) the band's error is larger, and falls as
         the texels shrink (docs/HETEROGENEOUS.md has the figures and the reasons)."""
-        import accuracy
+        from subsplat_testing import accuracy
         chessboard_file(self.path("subedit_slab_board.exr"), squares=8)
         scene = helpers.empty_scene(96, 96)
         scene.render.engine = "SUBSPLAT"
