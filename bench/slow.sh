@@ -5,7 +5,8 @@
 #   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
 #     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);
 #   - the stability test over 60 frames of the moving light and 5 of the deformation (CI: 20 and 3),
-#     and the full sweep of bench/stability.py with the flicker (docs/STABILITY.md's command).
+#     and the full sweep of bench/stability.py with the flicker (docs/STABILITY.md's command);
+#   - every example end to end at its full size (CI: 25 %).
 # Each is a CTest test labelled slow (tests/CMakeLists.txt), run one at a time so that their
 # figures are not shared with other work. Results: the figures each prints, in build/slow.log;
 # the documents and images of the sweeps (TRADEOFF.md, STABILITY.md, images/) in
