@@ -1,16 +1,18 @@
 """Chandrasekhar's H-function of isotropic scattering, and the exact radiance of an index-matched,
-isotropically scattering half-space (the truth harness's own check: docs/PHYSICAL.md, "Checking the truth").
+isotropically scattering half-space (the truth harness's own check: docs/PHYSICAL.md, "Checking the
+truth").
 
 Plain Python with numpy (no Blender): the H-function solves, for single-scattering albedo a in (0, 1],
 
     1 / H(mu) = sqrt(1 - a) + (a / 2) int_0^1 mu' H(mu') / (mu + mu') dmu'
 
-(Chandrasekhar, Radiative Transfer, 1960, eq. V.40). It is solved on a Gauss-Legendre grid in
-t = sqrt(mu) (H has a mu log mu term at mu = 0 that a grid in mu resolves slowly) by a few steps of the
-fixed-point iteration and then Newton's method, which converges at a = 1 as well, where the
+(Chandrasekhar, Radiative Transfer, 1960, chapter V). It is solved on a Gauss-Legendre grid in
+t = sqrt(mu) (H has a mu log mu term at mu = 0 that a grid in mu resolves slowly) by a few steps of
+the fixed-point iteration and then Newton's method, which converges at a = 1 as well, where the
 iteration alone slows to a crawl. H at any mu is then the right-hand side evaluated at mu (Nystrom).
 
-Radiance leaving the half-space at direction cosine mu (chandrasekhar eq. IV.(84) with pi F = E / mu0):
+Radiance leaving the half-space at direction cosine mu (Chandrasekhar's, with pi F = E / mu0 the
+flux across the beam):
 - a collimated beam whose irradiance on the surface is E, arriving at cosine mu0:
       L = a E H(mu0) H(mu) / (4 pi (mu0 + mu));
   (a sun of strength S, the irradiance on a plane facing it, at mu0 gives E = S mu0);

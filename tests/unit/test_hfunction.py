@@ -1,5 +1,5 @@
-"""Chandrasekhar's H-function (tests/subsplat_testing/hfunction.py), the exact half-space radiance the
-truth harness is checked against: its moments, tabulated values, and the albedo identity.
+"""Chandrasekhar's H-function (tests/subsplat_testing/hfunction.py), the exact half-space radiance
+the truth harness is checked against: its moments, tabulated values, and the albedo identity.
 Plain Python with numpy (CTest: /usr/bin/python3, label unit)."""
 import math
 import unittest
@@ -34,7 +34,7 @@ def fixed_point_in_mu(albedo, n=200, iterations=100000):
 
 class HFunctionTest(unittest.TestCase):
     def test_zeroth_moment(self):
-        """int_0^1 H dmu = (2 / a) (1 - sqrt(1 - a)) (Chandrasekhar eq. V.44), up to a = 1."""
+        """int_0^1 H dmu = (2 / a) (1 - sqrt(1 - a)), up to a = 1."""
         mu, w = gauss()
         for a in ALBEDOS:
             H = hfunction.h_function(a)
@@ -42,14 +42,13 @@ class HFunctionTest(unittest.TestCase):
                                    msg=f"a = {a}")
 
     def test_first_moment_conservative(self):
-        """At a = 1, int_0^1 mu H dmu = 2 / sqrt(3) (eq. V.57)."""
+        """At a = 1, int_0^1 mu H dmu = 2 / sqrt(3)."""
         mu, w = gauss()
         self.assertAlmostEqual(float((w * mu * hfunction.h_function(1.0)(mu)).sum()), 2.0 / math.sqrt(3.0),
                                delta=1e-8)
 
     def test_tabulated(self):
-        """Chandrasekhar's tables (Radiative Transfer, 1960, table XI, 4 decimals) and the
-        conservative H of table XIII: H(0) = 1 always."""
+        """Chandrasekhar's tables (Radiative Transfer, 1960; 4 decimals) for a = 1 and 0.9; H(0) = 1."""
         table = {1.0: {0.0: 1.0, 0.1: 1.2474, 0.5: 2.0128, 1.0: 2.9078},
                  0.9: {0.0: 1.0, 1.0: 1.8501}}
         for a, values in table.items():
