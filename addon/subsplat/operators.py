@@ -1,8 +1,8 @@
-"""Operators: Bake SubEdit Material."""
+"""Operators: Bake SubEdit Material, Make Cycles Twin."""
 import bpy
 from bpy_extras.io_utils import ExportHelper
 
-from . import export, native
+from . import export, native, twin
 from .export import materials
 
 
@@ -41,7 +41,36 @@ class SUBSPLAT_OT_bake_subedit(bpy.types.Operator, ExportHelper):
         return {"FINISHED"}
 
 
-CLASSES = (SUBSPLAT_OT_bake_subedit,)
+class SUBSPLAT_OT_make_cycles_twin(bpy.types.Operator):
+    """Make a scene "<name> Cycles Twin" with the same objects, camera, lights and world, rendered by
+    Cycles, in which every translucent material is the medium it describes (a volume inside the mesh):
+    the physical answer that SubSplat's model approximates. The scene itself is not changed"""
+    bl_idname = "subsplat.make_cycles_twin"
+    bl_label = "Make Cycles Twin"
+    bl_options = {"REGISTER"}
+
+    activate: bpy.props.BoolProperty(
+        name="Show the Twin", default=True,
+        description="Make the twin the window's scene (when there is a window)")
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None
+
+    def execute(self, context):
+        try:
+            scene, reports = twin.make_cycles_twin(context.scene)
+        except twin.TwinError as error:
+            self.report({"ERROR"}, f"SubSplat: {error}")
+            return {"CANCELLED"}
+        for level, text in reports:
+            self.report({level}, f"SubSplat: {text}")
+        if self.activate and context.window is not None:
+            context.window.scene = scene
+        return {"FINISHED"}
+
+
+CLASSES = (SUBSPLAT_OT_bake_subedit, SUBSPLAT_OT_make_cycles_twin)
 
 
 def register():

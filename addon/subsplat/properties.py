@@ -15,7 +15,8 @@ METHOD_ITEMS = [
      "light angle (Chen et al. 2012, eq. 10-11); splat at one level"),
     ("FULL", "Full", "Adaptive sample selection and multiresolution splatting: the paper's method"),
     ("REFERENCE", "Reference",
-     "Ground truth: the same model summed in object space on the CPU with ray-traced shadows (slow)"),
+     "The model's reference: the same model (the classical dipole) summed in object space on the CPU with "
+     "ray-traced shadows (slow); exact for the model, not for the physics, whose truth is the Cycles twin"),
 ]
 
 

@@ -23,6 +23,10 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
     bl_context = "render"
 
     def draw(self, context):
+        self.draw_settings(context)
+        self.layout.operator("subsplat.make_cycles_twin", icon="SCENE_DATA")
+
+    def draw_settings(self, context):
         layout = self.layout
         layout.use_property_split = True
         settings = context.scene.subsplat
