@@ -187,6 +187,34 @@ def case_scene(medium, light, mu0, mu, size_px, samples, seed):
     return scene
 
 
+def twin_case_scene(medium, light, mu0, mu, size_px, samples, seed):
+    """The same case through the Cycles twin (addon/subsplat/twin.py; the add-on enabled): the box
+    holds a SubSplat material (DIPOLE source, eta = 1, 1 mm per unit, sigma_a = (1 - a) sigma_t and
+    sigma_s' = a sigma_t per mm), and the twin scene it makes is rendered with its own settings; only
+    the samples, seed and device are set here. Leaves the twin scene the window's scene."""
+    import subsplat
+    scene = case_scene(medium, light, mu0, mu, size_px, samples, seed)
+    albedo = MEDIA[medium]
+    material = bpy.data.materials.new("HalfSpaceSubSplat")
+    material.subsplat.enabled = True
+    material.subsplat.preset = "CUSTOM"
+    material.subsplat.mm_per_unit = 1.0
+    material.subsplat.sigma_a = ((1.0 - albedo) * SIGMA_T,) * 3
+    material.subsplat.sigma_s_prime = (albedo * SIGMA_T,) * 3
+    material.subsplat.eta = 1.0
+    scene.objects["HalfSpace"].data.materials[0] = material
+    twin_scene, reports = subsplat.twin.make_cycles_twin(scene)
+    for level, text in reports:
+        if level == "ERROR":
+            raise RuntimeError(f"twin: {text}")
+    twin_scene.cycles.device = "CPU"
+    twin_scene.cycles.samples = samples
+    twin_scene.cycles.seed = seed
+    twin_scene.cycles.use_animated_seed = False
+    bpy.context.window.scene = twin_scene
+    return twin_scene
+
+
 def render_pixels(scene, path):
     """Renders; the per-pixel radiance (mean of R, G, B: the media are grey), flattened."""
     import numpy as np
@@ -201,17 +229,19 @@ def render_pixels(scene, path):
     return pixels.reshape(-1, 4)[:, :3].astype(np.float64).mean(axis=1)
 
 
-def measure(medium, light, mu0, mu, size_px, samples, seeds, path_prefix, first_seed=0):
+def measure(medium, light, mu0, mu, size_px, samples, seeds, path_prefix, first_seed=0, via="direct"):
     """Mean radiance over the central patch; its standard error, the larger of two estimates (the
     scatter of every pixel of every seed, taken as independent, and the scatter of the per-seed means,
     which holds whatever the pixels of one render share); the per-seed means and the render seconds.
     Seeds first_seed, first_seed + 1, ...: a render's first samples repeat those of a longer render
-    with the same seed, so a check against a committed run uses other seeds."""
+    with the same seed, so a check against a committed run uses other seeds. via: "direct" (the
+    medium built here, volume_material) or "twin" (the same case through the Cycles twin)."""
     import time
     import numpy as np
     values, per_seed, seconds = [], [], 0.0
     for seed in range(first_seed, first_seed + seeds):
-        scene = case_scene(medium, light, mu0, mu, size_px, samples, seed)
+        make = {"direct": case_scene, "twin": twin_case_scene}[via]
+        scene = make(medium, light, mu0, mu, size_px, samples, seed)
         start = time.perf_counter()
         pixels = render_pixels(scene, f"{path_prefix}_seed{seed}.exr")
         seconds += time.perf_counter() - start
