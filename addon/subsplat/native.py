@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 10  # SS_API_VERSION of subsplat.h
+API_VERSION = 11  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -208,6 +208,8 @@ def _declare(lib):
         "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
         "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
+        "ssDipoleTotalReflectance": [ctypes.c_uint64, ctypes.POINTER(ctypes.c_double), ctypes.c_double,
+                                     ctypes.POINTER(ctypes.c_double)],
         "ssSaveScene": [handle, ctypes.c_char_p],
         "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
         "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
@@ -275,6 +277,17 @@ def gl_state():
 def changed_gl_state(before, after):
     """The names whose values differ between two gl_state() results, sorted."""
     return sorted(name for name in before if after.get(name) != before[name])
+
+
+def dipole_total_reflectance(reduced_albedo, eta):
+    """Rd_total of a dipole (Jensen et al. 2001) for each reduced albedo (an array of any shape), by
+    the library's one implementation (ssDipoleTotalReflectance); no GL needed."""
+    albedo = np.ascontiguousarray(reduced_albedo, dtype=np.float64)
+    out = np.empty_like(albedo)
+    doubles = ctypes.POINTER(ctypes.c_double)
+    _check(library().ssDipoleTotalReflectance(albedo.size, albedo.ctypes.data_as(doubles), float(eta),
+                                              out.ctypes.data_as(doubles)))
+    return out
 
 
 def profile_info(material):

@@ -15,7 +15,7 @@ import hashlib
 
 import numpy as np
 
-from . import version
+from . import native, version
 
 COLOR_INPUT = version.PRINCIPLED_SUBSURFACE_COLOR
 RADIUS_INPUT = version.PRINCIPLED_SUBSURFACE_RADIUS
@@ -29,11 +29,8 @@ class PrincipledError(ValueError):
 
 
 def dipole_total_reflectance(reduced_albedo, eta):
-    """Rd_total(alpha') of Jensen et al. 2001 (DESIGN.md), elementwise."""
-    fdr = -1.440 / eta ** 2 + 0.710 / eta + 0.668 + 0.0636 * eta
-    big_a = (1 + fdr) / (1 - fdr)
-    root = np.sqrt(3 * (1 - reduced_albedo))
-    return reduced_albedo / 2 * (1 + np.exp(-4 / 3 * big_a * root)) * np.exp(-root)
+    """Rd_total(alpha') of Jensen et al. 2001 (DESIGN.md), elementwise, from the library."""
+    return native.dipole_total_reflectance(reduced_albedo, eta)
 
 
 def reduced_albedo(total_reflectance, eta):

@@ -511,6 +511,19 @@ SsStatus ssLoadScene(SsContext context, const char* path, int32_t* frameWidth, i
   });
 }
 
+SsStatus ssDipoleTotalReflectance(uint64_t count, const double* reduced_albedo, double eta, double* out) {
+  return guarded("ssDipoleTotalReflectance", [&] {
+    if (count > 0 && (reduced_albedo == nullptr || out == nullptr))
+      subsplat::fail(SS_INVALID_ARGUMENT, "reduced_albedo or out is NULL");
+    if (!(std::isfinite(eta) && eta > 0.0)) subsplat::fail(SS_INVALID_ARGUMENT, "eta must be positive, got " + std::to_string(eta));
+    for (uint64_t i = 0; i < count; ++i)
+      if (!(reduced_albedo[i] >= 0.0 && reduced_albedo[i] <= 1.0))
+        subsplat::fail(SS_INVALID_ARGUMENT, "reduced albedo " + std::to_string(i) + " must be in [0, 1], got " +
+                                                std::to_string(reduced_albedo[i]));
+    for (uint64_t i = 0; i < count; ++i) out[i] = subsplat::dipoleTotalReflectance(reduced_albedo[i], eta);
+  });
+}
+
 SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out) {
   return guarded("ssGetProfileInfo", [&] {
     const SsMaterialDesc& m = deref(material, "material");

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "material/dipole.h"
 #include "material/splat_kernel.h"
 #include "subsplat/subsplat.h"
 #include "testing/egl_context.h"
@@ -35,6 +36,25 @@ TEST(ApiWithoutContext, NewContextFailsCleanlyWithoutGl) {
   EXPECT_EQ(ssNewContext(&c), SS_GL_ERROR);
   EXPECT_EQ(c, nullptr);
   EXPECT_NE(std::string(ssGetLastError()).find("no OpenGL context"), std::string::npos);
+}
+
+// The add-on reads a Principled BSDF's colour by inverting Rd_total: it asks the library's one
+// implementation, which is the dipole's own total, and bad input is refused.
+TEST(ApiWithoutContext, DipoleTotalReflectanceIsTheDipolesAndRefusesBadInput) {
+  const double albedo[] = {0.0, 0.25, 0.5, 0.9, 0.999, 1.0};
+  double out[6] = {};
+  ASSERT_EQ(ssDipoleTotalReflectance(6, albedo, 1.3, out), SS_OK) << ssGetLastError();
+  for (int i = 0; i < 6; ++i)
+    EXPECT_DOUBLE_EQ(out[i], Dipole({1.0 - albedo[i], albedo[i], 1.3}).totalReflectance()) << albedo[i];
+  EXPECT_EQ(ssDipoleTotalReflectance(0, nullptr, 1.3, nullptr), SS_OK);
+  EXPECT_EQ(ssDipoleTotalReflectance(1, nullptr, 1.3, out), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssDipoleTotalReflectance(1, albedo, 1.3, nullptr), SS_INVALID_ARGUMENT);
+  const double outside[] = {1.5}, notANumber[] = {std::nan("")};
+  EXPECT_EQ(ssDipoleTotalReflectance(1, outside, 1.3, out), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("reduced albedo 0"), std::string::npos) << ssGetLastError();
+  EXPECT_EQ(ssDipoleTotalReflectance(1, notANumber, 1.3, out), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssDipoleTotalReflectance(1, albedo, std::nan(""), out), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssDipoleTotalReflectance(1, albedo, 0.0, out), SS_INVALID_ARGUMENT);
 }
 
 TEST(ApiWithoutContext, NullPointersAreRejected) {

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 10
+#define SS_API_VERSION 11
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -327,6 +327,9 @@ typedef struct SsProfileInfo {
 } SsProfileInfo;
 /* DIPOLE materials; SUBEDIT: the set's most common profile. */
 SS_API SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out);
+/* Rd_total of a dipole (Jensen et al. 2001) for each of `count` reduced albedos in [0, 1] under
+ * the relative index eta (positive): the add-on inverts it to read a Principled BSDF's colour. */
+SS_API SsStatus ssDipoleTotalReflectance(uint64_t count, const double* reduced_albedo, double eta, double* out);
 
 #ifdef __cplusplus
 }

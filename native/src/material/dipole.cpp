@@ -9,6 +9,13 @@ double fresnelDiffuseReflectance(double eta) {
   return -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
 }
 
+double dipoleTotalReflectance(double reducedAlbedo, double eta) {
+  double fdr = fresnelDiffuseReflectance(eta);
+  double A = (1.0 + fdr) / (1.0 - fdr);
+  double root = std::sqrt(3.0 * (1.0 - reducedAlbedo));
+  return 0.5 * reducedAlbedo * (1.0 + std::exp(-4.0 / 3.0 * A * root)) * std::exp(-root);
+}
+
 double fresnelTransmittance(double eta, double cosTheta) {
   cosTheta = std::clamp(cosTheta, 0.0, 1.0);
   double sin2T = (1.0 - cosTheta * cosTheta) / (eta * eta);
@@ -22,6 +29,7 @@ double fresnelTransmittance(double eta, double cosTheta) {
 Dipole::Dipole(const DipoleChannel& c) {
   double sigmaTPrime = c.sigmaA + c.sigmaSPrime;
   albedo_ = c.sigmaSPrime / sigmaTPrime;
+  eta_ = c.eta;
   sigmaTr_ = std::sqrt(3.0 * c.sigmaA * sigmaTPrime);
   double fdr = fresnelDiffuseReflectance(c.eta);
   double A = (1.0 + fdr) / (1.0 - fdr);
@@ -41,9 +49,7 @@ double Dipole::energyWithin(double r) const {
           zr_ * std::exp(-sigmaTr_ * dr) / dr - zv_ * std::exp(-sigmaTr_ * dv) / dv);
 }
 
-double Dipole::totalReflectance() const {
-  return 0.5 * albedo_ * (std::exp(-sigmaTr_ * zr_) + std::exp(-sigmaTr_ * zv_));
-}
+double Dipole::totalReflectance() const { return dipoleTotalReflectance(albedo_, eta_); }
 
 double RadialProfile::radiusForEnergy(double fraction) const {
   double total = totalEnergy();

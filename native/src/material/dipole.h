@@ -30,6 +30,12 @@ struct DipoleChannel {
 // Fresnel diffuse reflectance F_dr (polynomial fit, Jensen et al. 2001).
 double fresnelDiffuseReflectance(double eta);
 
+// Rd_total of a dipole of reduced albedo a' under relative index eta, the energy R_d carries over
+// the whole plane (Jensen et al. 2001; DESIGN.md): a'/2 (1 + e^{-4/3 A s}) e^{-s}, s = sqrt(3(1 - a')).
+// The one implementation: Dipole::totalReflectance and the add-on's Principled conversion
+// (ssDipoleTotalReflectance) call it.
+double dipoleTotalReflectance(double reducedAlbedo, double eta);
+
 // Fresnel transmittance F_t = 1 - F_r for unpolarised light entering a
 // dielectric of relative index eta at cos(theta) = cosTheta.
 double fresnelTransmittance(double eta, double cosTheta);
@@ -56,7 +62,7 @@ class Dipole final : public RadialProfile {
   double virtualSourceHeight() const { return zv_; } // z_v = z_r (1 + 4A/3)
 
  private:
-  double albedo_ = 0, sigmaTr_ = 0, zr_ = 0, zv_ = 0;
+  double albedo_ = 0, eta_ = 1, sigmaTr_ = 0, zr_ = 0, zv_ = 0;
 };
 
 }  // namespace subsplat
