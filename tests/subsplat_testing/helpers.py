@@ -86,7 +86,11 @@ def add_light(scene, kind, location=(0, 0, 0), rotation=(0, 0, 0), energy=1.0, *
 
 def render(scene, name):
     """Renders with the scene's engine; linear RGBA float array (height, width, 4), bottom row first."""
-    path = os.path.join(OUTPUT, name + ".exr")
+    return render_to(scene, os.path.join(OUTPUT, name + ".exr"))
+
+
+def render_to(scene, path):
+    """render(), written to the EXR file `path`."""
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     scene.render.filepath = path

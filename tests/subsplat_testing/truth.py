@@ -218,14 +218,8 @@ def twin_case_scene(medium, light, mu0, mu, size_px, samples, seed):
 def render_pixels(scene, path):
     """Renders; the per-pixel radiance (mean of R, G, B: the media are grey), flattened."""
     import numpy as np
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(path, check_existing=False)
-    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
+    from subsplat_testing import helpers
+    pixels = helpers.render_to(scene, path)
     return pixels.reshape(-1, 4)[:, :3].astype(np.float64).mean(axis=1)
 
 
