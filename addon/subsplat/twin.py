@@ -136,20 +136,49 @@ def _rendered_objects(scene, view_layer):
     return list(found.values())
 
 
-def _open_edges(obj, depsgraph):
-    """How many edges of the object's mesh do not have exactly two faces (0: closed): the evaluated
-    mesh (modifiers applied) when a depsgraph is given, else the mesh itself."""
-    def count(mesh):
-        if len(mesh.edges) == 0:
-            return 0
-        edge_index = np.empty(len(mesh.loops), dtype=np.int64)
-        mesh.loops.foreach_get("edge_index", edge_index)
-        return int(np.count_nonzero(np.bincount(edge_index, minlength=len(mesh.edges)) != 2))
+def _surface(mesh):
+    """What the medium's boundary needs from a mesh: {"open": edges without exactly two faces,
+    "inconsistent": edges whose two faces run them the same way (their normals disagree about which
+    side is inside), "volume": the signed volume the faces enclose (negative: the normals point in)}."""
+    if len(mesh.edges) == 0 or len(mesh.polygons) == 0:
+        return {"open": 0, "inconsistent": 0, "volume": 0.0}
+    loops = len(mesh.loops)
+    edge_index = np.empty(loops, dtype=np.int64)
+    mesh.loops.foreach_get("edge_index", edge_index)
+    vertex = np.empty(loops, dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", vertex)
+    start = np.empty(len(mesh.polygons), dtype=np.int64)
+    total = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_start", start)
+    mesh.polygons.foreach_get("loop_total", total)
+    # The next corner of each corner in its polygon, and so each corner's directed edge.
+    following = np.arange(loops) + 1
+    following[start + total - 1] = start
+    head = vertex[following]
+    open_edges = int(np.count_nonzero(np.bincount(edge_index, minlength=len(mesh.edges)) != 2))
+    # Two faces agree about an edge when they run it in opposite directions: the same directed edge
+    # twice is a disagreement.
+    directed = vertex * (len(mesh.vertices) + 1) + head
+    _, counts = np.unique(directed, return_counts=True)
+    inconsistent = int(np.count_nonzero(counts > 1))
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    # Each polygon as a fan from its first corner: sum of det(a, b, c) / 6.
+    first = np.repeat(vertex[start], total)
+    volume = float(np.einsum("ij,ij->i", co[first], np.cross(co[vertex], co[head])).sum() / 6.0)
+    return {"open": open_edges, "inconsistent": inconsistent, "volume": volume}
+
+
+def _surface_of(obj, depsgraph):
+    """_surface of the object's evaluated mesh (modifiers applied) when a depsgraph is given, else of
+    its mesh. In the object's own space: a mirroring transform does not turn a mesh inside out
+    (Blender and Cycles flip its faces back)."""
     if depsgraph is None:
-        return count(obj.data)
+        return _surface(obj.data)
     evaluated = obj.evaluated_get(depsgraph)
     try:
-        return count(evaluated.to_mesh())
+        return _surface(evaluated.to_mesh())
     finally:
         evaluated.to_mesh_clear()
 
@@ -271,11 +300,20 @@ def make_cycles_twin(scene, view_layer=None):
         if any(m["subsplat_medium"]["eta"] > 1.0 for m in media):
             refracting.append(obj.name)
         if media and obj.type == "MESH":
-            open_edges = _open_edges(obj, depsgraph)
-            if open_edges:
-                reports.append(("WARNING", f"object '{obj.name}': its mesh is not closed ({open_edges} edges "
+            surface = _surface_of(obj, depsgraph)
+            if surface["open"]:
+                reports.append(("WARNING", f"object '{obj.name}': its mesh is not closed ({surface['open']} edges "
                                            "without exactly two faces), so the medium inside it is not well "
                                            "defined: Cycles' result may be wrong there"))
+            elif surface["inconsistent"]:
+                reports.append(("WARNING", f"object '{obj.name}': its faces' normals disagree ({surface['inconsistent']} "
+                                           "edges run the same way by both their faces): Cycles enters and leaves "
+                                           "the medium by the normals, so light is lost or trapped where they point "
+                                           "in (Mesh > Normals > Recalculate Outside fixes it)"))
+            elif surface["volume"] < 0:
+                reports.append(("WARNING", f"object '{obj.name}': its normals point inwards (the mesh is inside "
+                                           "out): Cycles enters and leaves the medium by the normals, so the medium "
+                                           "is outside the mesh (Mesh > Normals > Recalculate Outside fixes it)"))
 
     for obj in objects:
         if obj.instance_type == "COLLECTION" and obj.instance_collection is not None:

@@ -196,6 +196,31 @@ class Examples(unittest.TestCase):
             self.assertEqual(boundary.type, "BSDF_TRANSPARENT" if eta == 1.0 else "BSDF_GLASS")
             self.assertEqual([s.name for s in bpy.data.scenes], [scene.name, result.name])
 
+    def test_normals_that_point_in_or_disagree_are_reported(self):
+        """Cycles enters and leaves a volume by the faces' normals: a box whose normals point in, or
+        whose faces disagree (one face flipped), holds the medium wrongly (a thin slab lit from below
+        rendered black), and the twin says so; a box with outward normals and a mirrored (negatively
+        scaled) one are not reported."""
+        scene = helpers.empty_scene(4, 4)
+        material = materials.translucent("Skin", mm_per_unit=100.0)
+        material.subsplat.eta = 1.0
+        cases = {"Good": None, "Mirrored": "mirror", "Inside Out": "all", "One Flipped": "one"}
+        for index, (name, flip) in enumerate(cases.items()):
+            obj = box(scene, name, (3 * index, 0, 0), (3 * index + 1, 1, 1), material)
+            if flip == "mirror":
+                obj.scale = (-1.0, 1.0, 1.0)
+            elif flip:
+                shape = bmesh.new()
+                shape.from_mesh(obj.data)
+                bmesh.ops.reverse_faces(shape, faces=shape.faces if flip == "all" else shape.faces[:1])
+                shape.to_mesh(obj.data)
+                shape.free()
+        _result, reports = twin.make_cycles_twin(scene)
+        warnings = [text for level, text in reports if level == "WARNING"]
+        self.assertTrue(any("'Inside Out'" in w and "normals point inwards" in w for w in warnings), warnings)
+        self.assertTrue(any("'One Flipped'" in w and "normals disagree (4 edges" in w for w in warnings), warnings)
+        self.assertFalse(any("'Good'" in w or "'Mirrored'" in w for w in warnings), warnings)
+
     def test_principled_source_is_its_dipole(self):
         bpy.ops.wm.read_homefile(use_empty=True)
         scene = bpy.context.scene

@@ -1,0 +1,99 @@
+"""The model against physical truth (docs/PHYSICAL.md, "The model against the truth"): the committed
+run of bench/physical.py (bench/results/physical.json) covers every case of subsplat_testing.physical
+with a resolved truth; and its figures stay tied to the code: one thick slab at 60 degrees and one thin
+back-lit slab are built again here, REFERENCE and FULL rendered, and their ratios to the committed
+truth must be the committed ratios; a short render of the thin slab's Cycles twin must agree with the
+committed truth within its noise."""
+import json
+import math
+import os
+import unittest
+
+import bpy
+import numpy as np
+
+from subsplat_testing import accuracy, helpers, physical
+
+subsplat = helpers.enable_addon()
+
+RESULT = os.path.join(helpers.SOURCE, "bench", "results", "physical.json")
+MAX_TRUTH_ERROR = 0.005  # each channel's mean resolved to 0.5 % (standard error)
+LIVE = ("slab_skin1_60", "thin_skin1_1mfp")
+
+
+def committed():
+    if not os.path.exists(RESULT):
+        raise AssertionError(f"{RESULT} is missing: run bench/physical.py (docs/PHYSICAL.md)")
+    with open(RESULT) as f:
+        return json.load(f)["cases"]
+
+
+def build(name):
+    size = committed()[name]["size"][1]
+    kind, make = next((k, b) for n, k, b, _ in physical.cases(size=size) if n == name)
+    scene, _notes = make()
+    return kind, scene
+
+
+class Committed(unittest.TestCase):
+    def test_every_case_is_measured_or_says_why_not(self):
+        cases = committed()
+        self.assertEqual(set(cases), {name for name, *_ in physical.cases()},
+                         "the committed run covers every case of subsplat_testing.physical")
+        for name, c in sorted(cases.items()):
+            if "not_measured" in c:
+                self.assertEqual(c["kind"], "example", name)
+                self.assertIn("is not converted", c["not_measured"], name)
+                continue
+            self.assertLessEqual(max(c["truth"]["channel_relative_standard_error"]), MAX_TRUTH_ERROR, name)
+            self.assertTrue(all(t > 0 for t in c["truth"]["mean"]), name)
+            for method in ("REFERENCE", "FULL", "EEVEE", "CYCLES_PRINCIPLED"):
+                m = c["methods"][method]
+                self.assertTrue(all(math.isfinite(r) and r > 0 for r in m["ratio"]), (name, method, m["ratio"]))
+                self.assertTrue(os.path.exists(os.path.join(helpers.SOURCE, m["picture"])), m["picture"])
+        measured = [n for n, c in cases.items() if "not_measured" not in c]
+        self.assertGreaterEqual(len([n for n in measured if n.startswith("example_")]), 4,
+                                "the examples the twin can convert are measured")
+
+
+class Live(unittest.TestCase):
+    def test_reference_and_full_reproduce_the_committed_ratios(self):
+        for name in LIVE:
+            c = committed()[name]
+            kind, scene = build(name)
+            truth_mean = np.array(c["truth"]["mean"])
+            for method in ("REFERENCE", "FULL"):
+                image, exitance, _stats = accuracy.render_passes(scene, method, 200000)
+                mask = physical.mask_for(kind, exitance)
+                ratio = image[mask][:, :3].mean(axis=0) / truth_mean
+                print(f"{name} {method}: ratio {ratio} committed {c['methods'][method]['ratio']}")
+                np.testing.assert_allclose(ratio, c["methods"][method]["ratio"], rtol=0.01,
+                                           err_msg=f"{name} {method}: rerun bench/physical.py")
+
+    def test_a_short_twin_render_agrees_with_the_committed_truth(self):
+        """64 samples x 2 renders of the thin slab's twin, seeds unlike the committed run's: each
+        channel's mean within 4 standard errors (its own and the committed one's) of the committed."""
+        name = "thin_skin1_1mfp"
+        c = committed()[name]
+        kind, scene = build(name)
+        twin, _reports = subsplat.twin.make_cycles_twin(scene)
+        twin.cycles.samples = 64
+        twin.cycles.device = "CPU"
+        bpy.context.window.scene = twin
+        means = []
+        for seed in (1000, 1001):
+            twin.cycles.seed = seed
+            image = helpers.render_to(twin, os.path.join(helpers.OUTPUT, f"physical_live_{seed}.exr"))
+            means.append(image[..., :3].reshape(-1, 3).mean(axis=0))
+        mean = np.mean(means, axis=0)
+        # The standard error of a 2-render mean, from the pixels' scatter (per channel).
+        pixel_error = image[..., :3].reshape(-1, 3).std(axis=0) / math.sqrt(image.shape[0] * image.shape[1] * 2)
+        committed_mean = np.array(c["truth"]["mean"])
+        bound = 4 * np.hypot(pixel_error, committed_mean * np.array(c["truth"]["channel_relative_standard_error"]))
+        print(f"{name} twin: live {mean} committed {committed_mean} bound {bound / committed_mean}")
+        self.assertTrue(np.all(bound / committed_mean < 0.05), "the live check must be able to see a 5 % change")
+        np.testing.assert_array_less(np.abs(mean - committed_mean), bound)
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
