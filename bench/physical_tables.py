@@ -6,8 +6,8 @@ Plain Python, no Blender:
 """
 import argparse
 import json
-import math
 import os
+import re
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -140,7 +140,10 @@ def document(results):
                 "reach the medium in the twin), its open translucent meshes closed (holes filled), over the pixels "
                 "REFERENCE marks translucent.", ""] + example_rows(kinds["example"]) + [""]
         for n, c in skipped.items():
-            out.append(f"- {n[len('example_'):]}: not measured: {c['not_measured']}")
+            names = re.findall(r"material '([^']+)' is not converted: ([^;]+)", c["not_measured"])
+            reasons = sorted({why for _, why in names})
+            out.append(f"- {n[len('example_'):]}: not measured: the twin does not convert "
+                       f"{', '.join(sorted(m for m, _ in names))} ({'; '.join(reasons)})")
         notes = [(n, c) for n, c in kinds["example"] if c["notes"] or c["twin_warnings"]]
         for n, c in notes:
             out.append(f"- {n[len('example_'):]}: " + "; ".join(c["notes"] + c["twin_warnings"]))

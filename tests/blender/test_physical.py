@@ -49,7 +49,9 @@ class Committed(unittest.TestCase):
             self.assertTrue(all(t > 0 for t in c["truth"]["mean"]), name)
             for method in ("REFERENCE", "FULL", "EEVEE", "CYCLES_PRINCIPLED"):
                 m = c["methods"][method]
-                self.assertTrue(all(math.isfinite(r) and r > 0 for r in m["ratio"]), (name, method, m["ratio"]))
+                # EEVEE and Cycles Principled may give nothing at all (behind a thin slab): 0 is a measurement.
+                least = 0.0 if method in ("EEVEE", "CYCLES_PRINCIPLED") else 1e-6
+                self.assertTrue(all(math.isfinite(r) and r >= least for r in m["ratio"]), (name, method, m["ratio"]))
                 self.assertTrue(os.path.exists(os.path.join(helpers.SOURCE, m["picture"])), m["picture"])
         measured = [n for n, c in cases.items() if "not_measured" not in c]
         self.assertGreaterEqual(len([n for n in measured if n.startswith("example_")]), 4,
@@ -71,13 +73,13 @@ class Live(unittest.TestCase):
                                            err_msg=f"{name} {method}: rerun bench/physical.py")
 
     def test_a_short_twin_render_agrees_with_the_committed_truth(self):
-        """64 samples x 2 renders of the thin slab's twin, seeds unlike the committed run's: each
+        """128 samples x 2 renders of the thin slab's twin, seeds unlike the committed run's: each
         channel's mean within 4 standard errors (its own and the committed one's) of the committed."""
         name = "thin_skin1_1mfp"
         c = committed()[name]
         kind, scene = build(name)
         twin, _reports = subsplat.twin.make_cycles_twin(scene)
-        twin.cycles.samples = 64
+        twin.cycles.samples = 128
         twin.cycles.device = "CPU"
         bpy.context.window.scene = twin
         means = []
@@ -91,7 +93,7 @@ class Live(unittest.TestCase):
         committed_mean = np.array(c["truth"]["mean"])
         bound = 4 * np.hypot(pixel_error, committed_mean * np.array(c["truth"]["channel_relative_standard_error"]))
         print(f"{name} twin: live {mean} committed {committed_mean} bound {bound / committed_mean}")
-        self.assertTrue(np.all(bound / committed_mean < 0.05), "the live check must be able to see a 5 % change")
+        self.assertTrue(np.all(bound / committed_mean < 0.03), "the live check must be able to see a 3 % change")
         np.testing.assert_array_less(np.abs(mean - committed_mean), bound)
 
 
