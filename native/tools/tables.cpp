@@ -3,10 +3,14 @@
 //
 //   subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT
 //   subsplat_tables --hfunction ALBEDO
+//   subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]
 //
 // --small: the table the unit test regenerates; --check: print, per albedo, the half-space
-// reflectance against 1 - sqrt(1 - a) H(mu0) in standard errors, and each slab's totals.
+// reflectance against 1 - sqrt(1 - a) H(mu0) and each slab's against adding-doubling, in
+// standard errors, and the once-scattered parts against their closed forms.
 // --hfunction: print mu, H(mu) and the half-space albedo R(mu) for mu = 0, 0.05, ..., 1.
+// --slab: a slab's reflectance and transmittance by adding-doubling and by the Monte Carlo
+// (PATHS, default 1e6), side by side.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +20,7 @@
 #include <fstream>
 #include <string>
 
+#include "transport/adding_doubling.h"
 #include "transport/hfunction.h"
 #include "transport/profile_table.h"
 
@@ -25,7 +30,8 @@ namespace {
 
 int usage() {
   std::fprintf(stderr, "usage: subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT\n"
-                       "       subsplat_tables --hfunction ALBEDO\n");
+                       "       subsplat_tables --hfunction ALBEDO\n"
+                       "       subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]\n");
   return 2;
 }
 
@@ -45,32 +51,59 @@ void singleScattering(double a, double tau, double mu0, double& reflected, doubl
 
 void check(const ProfileTable& table) {
   const ProfileTableSpec& spec = table.spec;
-  std::printf("# R, T (with the unscattered T_unscat), A: the table. R exact: 1 - sqrt(1 - a) H(mu0) (half-space).\n"
-              "# sigmas: (table - exact) / standard error, for R, and for the once-scattered R1 and T1 (closed form).\n");
-  std::printf("%8s %8s %10s %10s %10s %9s %8s %8s %10s %10s %8s\n", "albedo", "tau", "R", "T", "T_unscat", "A",
-              "R1 sig", "T1 sig", "R exact", "R - exact", "R sig");
+  std::printf("# R, T (with the unscattered T_unscat), A: the table. R exact, T exact: 1 - sqrt(1 - a) H(mu0) for the\n"
+              "# half-space, adding-doubling (adding_doubling.h) for a slab. sig: (table - exact) / standard error,\n"
+              "# for the once-scattered R1 and T1 (closed form), R and T; '-': nothing counted, or nothing to compare.\n");
+  std::printf("%8s %8s %10s %10s %10s %9s %7s %7s %10s %10s %7s %7s\n", "albedo", "tau", "R", "T", "T_unscat", "A",
+              "R1 sig", "T1 sig", "R exact", "T exact", "R sig", "T sig");
   for (size_t i = 0; i < spec.albedos.size(); ++i)
     for (size_t j = 0; j < spec.thicknesses.size(); ++j) {
       const SlabTallies& t = table.at(i, j);
+      double a = spec.albedos[i], tau = spec.thicknesses[j];
       double r1, t1;
-      singleScattering(spec.albedos[i], spec.thicknesses[j], spec.mu0, r1, t1);
+      singleScattering(a, tau, spec.mu0, r1, t1);
       // In standard errors; '-' where the table counted nothing (no error to measure in).
       auto sigmas = [&](uint64_t count, double exact) {
-        char text[32] = "       -";
-        if (count > 0 && count < t.settings.paths)
-          std::snprintf(text, sizeof text, "%8.2f", (t.fraction(count) - exact) / t.standardError(count));
+        char text[32] = "      -";
+        if (count > 0 && count < t.settings.paths && !std::isnan(exact))
+          std::snprintf(text, sizeof text, "%7.2f", (t.fraction(count) - exact) / t.standardError(count));
         return std::string(text);
       };
-      std::printf("%8.4f %8.3f %10.6f %10.6f %10.6f %9.6f %s %s", spec.albedos[i], spec.thicknesses[j], t.reflectance(),
-                  t.transmittance(), t.unscattered, t.absorptance(), sigmas(t.reflectedOnce, r1).c_str(),
-                  sigmas(t.transmittedOnce, t1).c_str());
-      if (std::isinf(spec.thicknesses[j]) && spec.albedos[i] > 0.0) {
-        double exact = halfSpaceAlbedo(HFunction(spec.albedos[i]), spec.mu0);
-        std::printf(" %10.6f %10.2e %8.2f", exact, t.reflectance() - exact,
-                    (t.reflectance() - exact) / t.standardError(t.reflected));
+      double rExact = NAN, tExact = NAN;  // tExact: scattered transmission
+      if (std::isinf(tau) && a > 0.0) {
+        rExact = halfSpaceAlbedo(HFunction(a), spec.mu0);
+        tExact = 0.0;
+      } else if (!std::isinf(tau)) {
+        SlabSolution exact = solveSlabByAddingDoubling(a, tau, spec.mu0);
+        rExact = exact.reflectance;
+        tExact = exact.scatteredTransmittance;
       }
-      std::printf("\n");
+      std::printf("%8.4f %8.3f %10.6f %10.6f %10.6f %9.6f %s %s %10.6f %10.6f %s %s\n", a, tau, t.reflectance(),
+                  t.transmittance(), t.unscattered, t.absorptance(), sigmas(t.reflectedOnce, r1).c_str(),
+                  sigmas(t.transmittedOnce, t1).c_str(), rExact, tExact + t.unscattered,
+                  sigmas(t.reflected, rExact).c_str(), sigmas(t.transmitted, tExact).c_str());
     }
+}
+
+// A slab by adding-doubling and by the Monte Carlo (a beam at mu0), side by side.
+int compareSlab(double a, double tau, double mu0, uint64_t paths) {
+  SlabSolution exact = solveSlabByAddingDoubling(a, tau, mu0);
+  SlabSettings settings;
+  settings.albedo = a;
+  settings.thickness = tau;
+  settings.mu0 = mu0;
+  settings.paths = paths;
+  SlabTallies t = simulateSlab(settings);
+  std::printf("adding-doubling: R %.9f  T scattered %.9f  T unscattered %.9f  R + T %.12f\n"
+              "                 diffuse light: R %.9f  T %.9f\n"
+              "Monte Carlo (%llu paths): R %.6f +- %.6f (%.2f sigma)  T scattered %.6f +- %.6f (%.2f sigma)\n",
+              exact.reflectance, exact.scatteredTransmittance, exact.unscatteredTransmittance,
+              exact.reflectance + exact.scatteredTransmittance + exact.unscatteredTransmittance, exact.diffuseReflectance,
+              exact.diffuseTransmittance, static_cast<unsigned long long>(paths), t.reflectance(),
+              t.standardError(t.reflected), (t.reflectance() - exact.reflectance) / t.standardError(t.reflected),
+              t.scatteredTransmittance(), t.standardError(t.transmitted),
+              (t.scatteredTransmittance() - exact.scatteredTransmittance) / t.standardError(t.transmitted));
+  return 0;
 }
 
 }  // namespace
@@ -86,7 +119,10 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
       std::string arg = argv[i];
       bool more = i + 1 < argc;
-      if (arg == "--hfunction" && more && argc == 3) {
+      if (arg == "--slab" && argc >= 5 && argc <= 6) {
+        return compareSlab(std::strtod(argv[2], nullptr), std::strtod(argv[3], nullptr), std::strtod(argv[4], nullptr),
+                           argc == 6 ? std::strtoull(argv[5], nullptr, 10) : 1000000);
+      } else if (arg == "--hfunction" && more && argc == 3) {
         HFunction h(std::strtod(argv[++i], nullptr));
         for (int k = 0; k <= 20; ++k)
           std::printf("%.2f %.17g %.17g\n", k / 20.0, h(k / 20.0), halfSpaceAlbedo(h, k / 20.0));
