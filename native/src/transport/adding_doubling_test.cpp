@@ -68,7 +68,7 @@ TEST(AddingDoubling, ThinSlabIsSingleScattering) {
 TEST(AddingDoubling, GridIsConverged) {
   for (double a : {0.5, 0.99})
     for (double tau : {0.25, 2.0}) {
-      SlabSolution coarse = solveSlabByAddingDoubling(a, tau, 0.8, 32), fine = solveSlabByAddingDoubling(a, tau, 0.8, 96);
+      SlabSolution coarse = solveSlabByAddingDoubling(a, tau, 0.8, 32), fine = solveSlabByAddingDoubling(a, tau, 0.8, 64);
       EXPECT_NEAR(coarse.reflectance, fine.reflectance, 1e-7);
       EXPECT_NEAR(coarse.scatteredTransmittance, fine.scatteredTransmittance, 1e-7);
       EXPECT_NEAR(coarse.diffuseReflectance, fine.diffuseReflectance, 1e-7);
