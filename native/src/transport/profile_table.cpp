@@ -127,6 +127,7 @@ ProfileTable makeProfileTable(const ProfileTableSpec& spec) {
       s.paths = spec.paths;
       s.seed = spec.seed;
       s.radiusEdges = spec.radiusEdges;
+      s.cosineBins = spec.cosineBins;
       s.threads = spec.threads;
       table.entries.push_back(simulateSlab(s));
     }
@@ -142,13 +143,15 @@ std::string writeProfileTable(const ProfileTable& table) {
          "# slab_monte_carlo (docs/TRANSPORT.md). Lengths in mean free paths. Per entry: the exact\n"
          "# unscattered transmittance and the collided share each path stands for; the paths reflected,\n"
          "# transmitted (after scattering), absorbed and truncated, and those that left after one\n"
-         "# collision; per radial bin, the paths that left through the top (reflected) and bottom face.\n"
-         "# A count c is the fraction collided * c / paths of the incident power; the mean exitance over a\n"
-         "# bin [r0, r1] is that over pi (r1^2 - r0^2).\n";
+         "# collision; per radial bin, the paths that left through the top (reflected) and bottom face;\n"
+         "# the same per exit-cosine bin (uniform in mu). A count c is the fraction collided * c / paths of\n"
+         "# the incident power; the mean exitance over a radial bin [r0, r1] is that over pi (r1^2 - r0^2),\n"
+         "# the mean radiance over a cosine bin [m0, m1] per unit irradiance that over pi (m1^2 - m0^2).\n";
   out << "mu0 " << real(spec.mu0) << '\n' << "paths " << spec.paths << '\n' << "seed " << spec.seed << '\n';
   writeList(out, "albedos", spec.albedos);
   writeList(out, "thicknesses", spec.thicknesses);
   writeList(out, "radius-edges", spec.radiusEdges);
+  out << "cosine-bins " << spec.cosineBins << '\n';
   for (const SlabTallies& t : table.entries) {
     out << "entry " << real(t.settings.albedo) << ' ' << real(t.settings.thickness) << " unscattered " << real(t.unscattered)
         << " collided " << real(t.collided) << " reflected " << t.reflected << " transmitted " << t.transmitted << " absorbed "
@@ -156,6 +159,8 @@ std::string writeProfileTable(const ProfileTable& table) {
         << t.transmittedOnce << '\n';
     writeCounts(out, "reflected-by-radius", t.reflectedByRadius);
     writeCounts(out, "transmitted-by-radius", t.transmittedByRadius);
+    writeCounts(out, "reflected-by-cosine", t.reflectedByCosine);
+    writeCounts(out, "transmitted-by-cosine", t.transmittedByCosine);
   }
   out << "end\n";
   return out.str();
@@ -181,6 +186,10 @@ ProfileTable readProfileTable(const std::string& text) {
   spec.albedos = in.list("albedos");
   spec.thicknesses = in.list("thicknesses");
   spec.radiusEdges = in.list("radius-edges");
+  in.expect("cosine-bins");
+  uint64_t cosineBins = in.count();
+  require(cosineBins <= 100000, "transport table: too many cosine bins");
+  spec.cosineBins = static_cast<int>(cosineBins);
   require(spec.radiusEdges.size() >= 2 && spec.paths > 0, "transport table: no bins or no paths");
   size_t bins = spec.radiusEdges.size() - 1;
   for (double a : spec.albedos)
@@ -194,6 +203,7 @@ ProfileTable readProfileTable(const std::string& text) {
       t.settings.paths = spec.paths;
       t.settings.seed = spec.seed;
       t.settings.radiusEdges = spec.radiusEdges;
+      t.settings.cosineBins = spec.cosineBins;
       in.expect("unscattered");
       t.unscattered = in.real();
       in.expect("collided");
@@ -213,6 +223,8 @@ ProfileTable readProfileTable(const std::string& text) {
       require(t.reflected + t.transmitted + t.absorbed + t.truncated == spec.paths, "transport table: counts do not add up");
       t.reflectedByRadius = in.counts("reflected-by-radius", bins);
       t.transmittedByRadius = in.counts("transmitted-by-radius", bins);
+      t.reflectedByCosine = in.counts("reflected-by-cosine", cosineBins);
+      t.transmittedByCosine = in.counts("transmitted-by-cosine", cosineBins);
       table.entries.push_back(t);
     }
   in.expect("end");

@@ -20,6 +20,7 @@ struct ProfileTableSpec {
   std::vector<double> albedos;      // each in [0, 1]
   std::vector<double> thicknesses;  // mean free paths; infinity: the half-space
   std::vector<double> radiusEdges;  // radial bin edges, mean free paths
+  int cosineBins = 10;              // exit-cosine bins, uniform in mu
   double mu0 = 1.0;                 // a collimated beam at this cosine
   uint64_t paths = 1000000;         // per (albedo, thickness)
   uint64_t seed = 1;                // the same for every entry: common random numbers across albedo

@@ -41,7 +41,7 @@ TEST(ProfileTable, TextReadsBackExactly) {
   EXPECT_EQ(table.entries.size(), table.spec.albedos.size() * table.spec.thicknesses.size());
 }
 
-TEST(ProfileTable, HalfSpaceTotalsAreTheHFunctions) {
+TEST(ProfileTable, HalfSpaceTotalsAndAnglesAreTheHFunctions) {
   ProfileTable table = readProfileTable(readFile(kSmallTable));
   for (size_t i = 0; i < table.spec.albedos.size(); ++i) {
     double a = table.spec.albedos[i];
@@ -53,6 +53,21 @@ TEST(ProfileTable, HalfSpaceTotalsAreTheHFunctions) {
     uint64_t binned = std::accumulate(t.reflectedByRadius.begin(), t.reflectedByRadius.end(), uint64_t{0});
     EXPECT_LE(binned, t.reflected);
     EXPECT_GE(binned, t.reflected * 0.99) << "a = " << a;
+    // The exit-cosine bins: a H(mu0) H(mu) / (4 pi (mu0 + mu)) integrated over each.
+    HFunction h(a);
+    int bins = table.spec.cosineBins;
+    ASSERT_EQ(t.reflectedByCosine.size(), static_cast<size_t>(bins));
+    EXPECT_EQ(std::accumulate(t.reflectedByCosine.begin(), t.reflectedByCosine.end(), uint64_t{0}), t.reflected);
+    MuQuadrature q = gaussLegendreInSqrtMu(16);
+    for (int k = 0; k < bins; ++k) {
+      double lo = static_cast<double>(k) / bins, hi = static_cast<double>(k + 1) / bins, exact = 0.0;
+      for (size_t n = 0; n < q.mu.size(); ++n) {
+        double mu = lo + (hi - lo) * q.mu[n];  // the sqrt grid over the bin: fine for the first one's mu log mu
+        exact += (hi - lo) * q.weight[n] * 2 * M_PI * mu * halfSpaceReflectedRadiance(h, table.spec.mu0, mu);
+      }
+      EXPECT_NEAR(t.fraction(t.reflectedByCosine[k]), exact, 4 * t.standardError(t.reflectedByCosine[k]) + 1e-6)
+          << "a = " << a << ", bin " << k;
+    }
   }
 }
 
