@@ -1,5 +1,6 @@
 #include "transport/profile_table.h"
 
+#include <charconv>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -15,11 +16,13 @@ namespace {
 const char kMagic[] = "subsplat-transport-table";
 const int kVersion = 1;
 
+// 17 significant digits, as printf's %.17g in the C locale whatever the host's locale is
+// (std::to_chars), so that the text reads back exactly and is the same bytes everywhere.
 std::string real(double x) {
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
+  auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
+  return std::string(buffer, result.ptr);
 }
 
 void writeList(std::ostringstream& out, const char* name, const std::vector<double>& v) {
@@ -50,9 +53,10 @@ class Tokens {
   double real() {
     std::string w = word();
     if (w == "inf") return std::numeric_limits<double>::infinity();
-    char* end = nullptr;
-    double x = std::strtod(w.c_str(), &end);
-    if (end == w.c_str() || *end != '\0' || !std::isfinite(x)) fail(SS_INVALID_ARGUMENT, "transport table: bad number '" + w + "'");
+    double x = 0.0;
+    auto result = std::from_chars(w.data(), w.data() + w.size(), x);  // the C locale's format
+    if (result.ec != std::errc() || result.ptr != w.data() + w.size() || !std::isfinite(x))
+      fail(SS_INVALID_ARGUMENT, "transport table: bad number '" + w + "'");
     return x;
   }
   uint64_t count() {

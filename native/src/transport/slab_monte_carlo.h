@@ -34,6 +34,8 @@ enum class SlabIncidence {
 struct SlabSettings {
   double albedo = 0.8;                                         // single-scattering albedo a, [0, 1]
   double thickness = std::numeric_limits<double>::infinity();  // tau, mean free paths, > 0
+  // Diffuse light draws the incidence cosine by rejection (kept with probability
+  // 1 - e^{-tau/mu0}): slabs thinner than about 1e-3 mfp take hundreds of draws a path.
   SlabIncidence incidence = SlabIncidence::Collimated;
   double mu0 = 1.0;                                            // collimated: cosine of incidence, (0, 1]
   uint64_t paths = 100000;
