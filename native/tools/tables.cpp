@@ -4,13 +4,15 @@
 //   subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT
 //   subsplat_tables --hfunction ALBEDO
 //   subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]
+//   subsplat_tables --dipole
 //
 // --small: the table the unit test regenerates; --check: print, per albedo, the half-space
 // reflectance against 1 - sqrt(1 - a) H(mu0) and each slab's against adding-doubling, in
 // standard errors, and the once-scattered parts against their closed forms.
 // --hfunction: print mu, H(mu) and the half-space albedo R(mu) for mu = 0, 0.05, ..., 1.
 // --slab: a slab's reflectance and transmittance by adding-doubling and by the Monte Carlo
-// (PATHS, default 1e6), side by side.
+// (PATHS, default 1e6), side by side. --dipole: the classical dipole's total reflectance at
+// eta = 1 beside the exact half-space albedo, for the table's albedos.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include <fstream>
 #include <string>
 
+#include "material/dipole.h"
 #include "transport/adding_doubling.h"
 #include "transport/hfunction.h"
 #include "transport/profile_table.h"
@@ -31,7 +34,8 @@ namespace {
 int usage() {
   std::fprintf(stderr, "usage: subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT\n"
                        "       subsplat_tables --hfunction ALBEDO\n"
-                       "       subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]\n");
+                       "       subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]\n"
+                       "       subsplat_tables --dipole\n");
   return 2;
 }
 
@@ -85,6 +89,26 @@ void check(const ProfileTable& table) {
     }
 }
 
+// The classical dipole's total (Jensen et al. 2001, at eta = 1) beside the exact half-space albedo
+// under a beam at 1 and 0.5 and under diffuse light, 2 int_0^1 mu R(mu) dmu.
+int compareDipole() {
+  MuQuadrature q = gaussLegendreInSqrtMu(200);
+  std::printf("# R(mu0): the exact half-space albedo; R(1) multiple: R(1) less its once-scattered part (what a\n"
+              "# dipole models); dipole: Rd_total of Jensen et al. 2001 at eta = 1 (dipoleTotalReflectance).\n");
+  std::printf("%8s %10s %10s %10s %10s %10s %10s %10s\n", "albedo", "R(1)", "R(0.5)", "R diffuse", "R(1) mult", "dipole",
+              "dip/R(1)", "dip/mult");
+  for (double a : {0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.95, 0.97, 0.98, 0.99, 0.995, 0.998, 0.999}) {
+    HFunction h(a);
+    double diffuse = 0.0;
+    for (size_t i = 0; i < q.mu.size(); ++i) diffuse += 2.0 * q.weight[i] * q.mu[i] * halfSpaceAlbedo(h, q.mu[i]);
+    double dipole = dipoleTotalReflectance(a, 1.0);
+    double r1 = halfSpaceAlbedo(h, 1.0), multiple = r1 - halfSpaceSingleScatteringAlbedo(a, 1.0);
+    std::printf("%8.3f %10.6f %10.6f %10.6f %10.6f %10.6f %10.4f %10.4f\n", a, r1, halfSpaceAlbedo(h, 0.5), diffuse, multiple,
+                dipole, dipole / r1, dipole / multiple);
+  }
+  return 0;
+}
+
 // A slab by adding-doubling and by the Monte Carlo (a beam at mu0), side by side.
 int compareSlab(double a, double tau, double mu0, uint64_t paths) {
   SlabSolution exact = solveSlabByAddingDoubling(a, tau, mu0);
@@ -119,7 +143,9 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
       std::string arg = argv[i];
       bool more = i + 1 < argc;
-      if (arg == "--slab" && argc >= 5 && argc <= 6) {
+      if (arg == "--dipole" && argc == 2) {
+        return compareDipole();
+      } else if (arg == "--slab" && argc >= 5 && argc <= 6) {
         return compareSlab(std::strtod(argv[2], nullptr), std::strtod(argv[3], nullptr), std::strtod(argv[4], nullptr),
                            argc == 6 ? std::strtoull(argv[5], nullptr, 10) : 1000000);
       } else if (arg == "--hfunction" && more && argc == 3) {
