@@ -6,6 +6,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <unordered_map>
 
 #include "material/splat_kernel.h"
@@ -250,6 +251,30 @@ std::string texelName(size_t t, int width) {
   return "texel (" + std::to_string(t % size_t(width)) + ", " + std::to_string(t / size_t(width)) + ")";
 }
 
+// Every distinct profile's total (integral of P 2 pi r dr, per channel) at most maxTotal: more
+// would send out more light than came in. The first texel of an offending profile is named; a
+// profile whose ln P never goes below 0 over its whole radius is most likely P written as ln P.
+void requireTotals(const Distinct& d, int segments, double radiusMm, double maxTotal, int width) {
+  static const char* kChannels[3] = {"R", "G", "B"};
+  size_t stride = size_t(segments + 1) * 3;
+  for (size_t i = 0; i < d.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float* knots = d.knots.data() + i * stride + size_t(c);
+      double total = SegmentedProfile(knots, segments, radiusMm, 3).totalEnergy();
+      if (total <= maxTotal) continue;
+      size_t texel = size_t(std::find(d.ofTexel.begin(), d.ofTexel.end(), uint32_t(i)) - d.ofTexel.begin());
+      bool allPositive = true;
+      for (int k = 0; k <= segments; ++k) allPositive = allPositive && knots[3 * k] >= 0.0f;
+      std::ostringstream message;
+      message << texelName(texel, width) << ": the " << kChannels[c] << " profile carries " << total
+              << " of the light that enters (its integral of P 2 pi r dr), more than the " << maxTotal
+              << " allowed: a profile cannot send out more light than came in"
+              << (allPositive ? " (ln P is never below 0 over the whole radius: does the file hold P instead of ln P?)"
+                              : "");
+      fail(SS_INVALID_ARGUMENT, message.str());
+    }
+}
+
 void requireSize(int width, int height, int segments, double radiusMm) {
   require(width >= 1 && height >= 1 && width <= ProfileSet::kMaxSide && height <= ProfileSet::kMaxSide,
           "profile map size must be in [1, " + std::to_string(ProfileSet::kMaxSide) + "] per side, got " +
@@ -361,15 +386,18 @@ ProfileSet build(const Distinct& d, int width, int height, int segments, double 
 }  // namespace
 
 ProfileSet ProfileSet::fromTexels(int width, int height, int segments, double radiusMm, const float* logKnots,
-                                  double tolerance) {
+                                  double tolerance, double maxTotal) {
   requireSize(width, height, segments, radiusMm);
   require(logKnots != nullptr, "profile data is NULL");
+  require(!std::isnan(maxTotal) && maxTotal > 0.0, "the most energy a profile may carry must be positive");
   size_t texels = size_t(width) * size_t(height), stride = size_t(segments + 1) * 3;
   require(uint64_t(texels) * stride <= kMaxSourceFloats,
           "profile data of " + std::to_string(width) + " x " + std::to_string(height) + " texels with " +
               std::to_string(segments) + " segments exceeds the 1 GiB budget");
   requireKnots(logKnots, texels, stride, [&](size_t t) { return texelName(t, width); });
-  return build(distinctProfiles(logKnots, texels, stride), width, height, segments, radiusMm, tolerance);
+  Distinct distinct = distinctProfiles(logKnots, texels, stride);
+  if (std::isfinite(maxTotal)) requireTotals(distinct, segments, radiusMm, maxTotal, width);
+  return build(distinct, width, height, segments, radiusMm, tolerance);
 }
 
 ProfileSet ProfileSet::fromDipoles(int width, int height, const float* sigmaA, const float* sigmaSPrime, double eta,

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -69,9 +70,11 @@ class ProfileSet {
 
   // width x height texels of ln P (1/mm^2) at n + 1 knots on [0, r_s] in mm,
   // texel-major, then knot, then RGB; texel row 0 at v = 0. tolerance: the
-  // mean relative energy error allowed to the model, in [1e-6, 1].
+  // mean relative energy error allowed to the model, in [1e-6, 1]. maxTotal:
+  // the most energy a profile may carry (its integral P 2 pi r dr, per channel);
+  // a texel beyond it is refused, named (SubEdit files: 1, light is not made).
   static ProfileSet fromTexels(int width, int height, int segments, double radiusMm, const float* logKnots,
-                               double tolerance);
+                               double tolerance, double maxTotal = std::numeric_limits<double>::infinity());
   // A homogeneous dipole per texel (sigma_a, sigma_s' per mm, RGB per texel),
   // each profile scaled to keep the dipole's total diffuse reflectance.
   static ProfileSet fromDipoles(int width, int height, const float* sigmaA, const float* sigmaSPrime, double eta,

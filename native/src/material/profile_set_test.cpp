@@ -261,6 +261,53 @@ TEST_F(SubEditFile, BadFilesAreRefusedWithTheirReason) {
   expectError("huge P", "not a finite value");
 }
 
+// A 2 x 1 SubEdit file whose texel 0 holds ln P = first and texel 1 ln P = second at every knot
+// (2 segments over 5 mm), in the given pixel type.
+void writeTwoTexels(const std::string& path, float first, float second, OIIO::TypeDesc type) {
+  const int segments = 2, channels = (segments + 1) * 3;
+  OIIO::ImageSpec spec(2, 1, channels, type);
+  spec.channelnames.clear();
+  for (int k = 0; k <= segments; ++k)
+    for (char c : std::string("RGB")) spec.channelnames.push_back("P" + std::to_string(k) + "." + c);
+  spec.attribute("subsplat:format", "SubEdit");
+  spec.attribute("subsplat:version", 1);
+  spec.attribute("subsplat:segments", segments);
+  spec.attribute("subsplat:radius_mm", 5.0f);
+  std::vector<float> pixels(size_t(2 * channels));
+  std::fill(pixels.begin(), pixels.begin() + channels, first);
+  std::fill(pixels.begin() + channels, pixels.end(), second);
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out && out->open(path, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close());
+}
+
+TEST_F(SubEditFile, ProfilesThatSendOutMoreLightThanCameInAreRefusedNamingTheTexel) {
+  // ln P = -5 over 5 mm carries e^-5 pi 25 = 0.53 of the light: fine. ln P = -2: 3.9 times what
+  // came in, refused, naming texel (1, 0); ln P = 10 everywhere (or a file of P, not ln P, whose
+  // values never go below 0) is refused with the hint.
+  writeTwoTexels(path, -5.0f, -5.0f, OIIO::TypeDesc::FLOAT);
+  ProfileSet fine = readSubEditFile(path, 0.01);
+  EXPECT_NEAR(fine.channel(fine.profileAt(0.25f, 0.5f), 0).totalEnergy(), std::exp(-5.0) * M_PI * 25.0, 1e-3);
+  writeTwoTexels(path, -5.0f, -2.0f, OIIO::TypeDesc::FLOAT);
+  std::string message = loadError();
+  EXPECT_NE(message.find("texel (1, 0): the R profile carries"), std::string::npos) << message;
+  EXPECT_NE(message.find("cannot send out more light than came in"), std::string::npos) << message;
+  EXPECT_EQ(message.find("instead of ln P"), std::string::npos) << message;
+  writeTwoTexels(path, 10.0f, 10.0f, OIIO::TypeDesc::FLOAT);
+  message = loadError();
+  EXPECT_NE(message.find("texel (0, 0)"), std::string::npos) << message;
+  EXPECT_NE(message.find("does the file hold P instead of ln P?"), std::string::npos) << message;
+  writeTwoTexels(path, 0.3f, 0.5f, OIIO::TypeDesc::FLOAT);  // P = 0.3 and 0.5 written as ln P
+  EXPECT_NE(loadError().find("instead of ln P"), std::string::npos);
+}
+
+TEST_F(SubEditFile, HalfFloatChannelsAreReadAsFloat) {
+  // docs/SUBEDIT_FILE.md: HALF channels are accepted (read as float; ln P to about 3 digits).
+  writeTwoTexels(path, -5.0f, -6.0f, OIIO::TypeDesc::HALF);
+  ProfileSet set = readSubEditFile(path, 0.01);
+  EXPECT_NEAR(set.channel(set.profileAt(0.25f, 0.5f), 0).totalEnergy(), std::exp(-5.0) * M_PI * 25.0, 2e-3);
+  EXPECT_NEAR(set.channel(set.profileAt(0.75f, 0.5f), 2).totalEnergy(), std::exp(-6.0) * M_PI * 25.0, 2e-3);
+}
+
 // The C API: sizes and tolerances checked, handles checked, a material keeps
 // its set alive after the caller released it.
 TEST(ProfileSetApi, ValidatesArgumentsAndHandles) {

@@ -22,6 +22,10 @@ constexpr const char* kRadiusKey = "subsplat:radius_mm";
 
 std::string channelName(int knot, int c) { return "P" + std::to_string(knot) + "." + "RGB"[c]; }
 
+// The most light a texel's profile may send out per unit that enters (docs/SUBEDIT_FILE.md): 1,
+// with room for the rounding of a fit to float knots.
+constexpr double kMaxTotal = 1.001;
+
 [[noreturn]] void fileError(const std::string& path, const std::string& what) {
   fail(SS_INVALID_ARGUMENT, "SubEdit file '" + path + "': " + what);
 }
@@ -82,7 +86,7 @@ ProfileSet readSubEditFile(const std::string& path, double tolerance) {
       for (int j = 0; j < channels; ++j) k[j] = p[source[size_t(j)]];
     }
   try {
-    return ProfileSet::fromTexels(spec.width, spec.height, segments, radius, knots.data(), tolerance);
+    return ProfileSet::fromTexels(spec.width, spec.height, segments, radius, knots.data(), tolerance, kMaxTotal);
   } catch (const Error& e) {
     fileError(path, e.what());
   }
