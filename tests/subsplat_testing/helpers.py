@@ -44,7 +44,10 @@ def empty_scene(width, height):
     scene.render.resolution_percentage = 100
     world = bpy.data.worlds.new("World")
     world.color = (0.0, 0.0, 0.0)
-    world.use_nodes = False
+    if bpy.app.version >= (5, 0, 0):  # every world renders its node tree: a black background
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    else:
+        world.use_nodes = False
     scene.world = world
     scene.view_settings.view_transform = "Standard"
     return scene
