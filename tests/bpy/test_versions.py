@@ -6,7 +6,7 @@ It checks what a new Blender breaks first: registration and unregistration, the 
 panel's draw() against a layout that knows this Blender's properties, operators and icons
 (subsplat_testing.mock_layout), the export of meshes, lights, camera and materials (Principled v1
 inputs in 3.x, v2 in 4.x and 5.x), and final renders: the plane test's slab with FULL and with
-REFERENCE, against the dipole's exitance.
+REFERENCE, against the dipole's exitance, and an example scene against its golden image.
 """
 import math
 import os
@@ -318,6 +318,34 @@ class Render(unittest.TestCase):
 
     def test_reference_render(self):
         self.check("REFERENCE", 0.01)
+
+    def test_an_example_renders_as_its_golden_image(self):
+        """The 3.4 file opened in this Blender (its Principled BSDFs converted by Blender's own
+        versioning) renders as the golden image made in 3.4, by tests/golden/check.sh's measure: a
+        channel fails when off by more than 0.002 and 1 %, the image when over 1 % of its pixels do
+        or one channel is off by 0.5."""
+        name = "skin_suzanne"
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "example_blends", f"{name}.blend"))
+        scene = bpy.context.scene
+        scene.render.engine = "SUBSPLAT"
+        scene.render.resolution_percentage = 6
+        scene.subsplat.method = "FULL"
+        scene.frame_set(1)
+        rendered = helpers.render(scene, f"{name}_FULL_f1")[..., :3].astype(np.float16).astype(np.float32)
+        self.assertIsNone(subsplat.last_render_error())
+        golden = bpy.data.images.load(os.path.join(helpers.SOURCE, "tests", "golden", "images",
+                                                   f"{name}_FULL_f1.exr"))
+        expected = np.empty(golden.size[0] * golden.size[1] * 4, dtype=np.float32)
+        golden.pixels.foreach_get(expected)
+        expected = expected.reshape(golden.size[1], golden.size[0], 4)[..., :3]
+        self.assertEqual(rendered.shape, expected.shape)
+        difference = np.abs(rendered - expected)
+        failing = ((difference > 0.002) & (difference > 0.01 * np.abs(expected))).any(axis=-1).mean()
+        print(f"{VERSION}: {name} against its golden image: largest difference {difference.max():.3g}, "
+              f"{100 * failing:.2f} % of pixels beyond the tolerance, "
+              f"{subsplat.last_render_stats()['frame_ms']:.0f} ms")
+        self.assertLessEqual(failing, 0.01)
+        self.assertLess(difference.max(), 0.5)
 
 
 if __name__ == "__main__":
