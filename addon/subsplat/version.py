@@ -12,6 +12,9 @@ PRINCIPLED_SUBSURFACE_COLOR = "Base Color" if BLENDER_4 else "Subsurface Color"
 PRINCIPLED_SUBSURFACE_RADIUS = "Subsurface Radius"
 # What scales the radius: 3.x the Subsurface weight (as Cycles 3.x), 4.x Subsurface Scale.
 PRINCIPLED_SUBSURFACE_SCALE = "Subsurface Scale" if BLENDER_4 else "Subsurface"
+# 4.x's mix of diffuse and subsurface, which SubSplat does not make (3.x has no such input: its
+# Subsurface is the scale above).
+PRINCIPLED_SUBSURFACE_WEIGHT = "Subsurface Weight" if BLENDER_4 else None
 
 
 def needs_blender_corner_normals(mesh):

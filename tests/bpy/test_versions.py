@@ -255,6 +255,8 @@ class Export(unittest.TestCase):
         bsdf.inputs[PRINCIPLED["colour"]].default_value = (*albedo, 1.0)
         bsdf.inputs[PRINCIPLED["radius"]].default_value = radius
         bsdf.inputs[PRINCIPLED["scale"]].default_value = scale
+        if bpy.app.version >= (4, 0, 0):
+            bsdf.inputs[PRINCIPLED["weight"]].default_value = 1.0  # 0 by default: no subsurface in Cycles
         for i, material in enumerate((opaque, dipole, translucent)):
             helpers.plane(scene, 1.0, material).location = (2 * i, 0, 0)
         frame = self.export()
@@ -275,6 +277,10 @@ class Export(unittest.TestCase):
                                                             translucent.subsplat.eta)
         sigma_tr = np.sqrt(3 * sigma_a * (sigma_a + sigma_s))
         np.testing.assert_allclose(1 / sigma_tr, np.array(radius) * scale * 100.0, rtol=1e-4)
+        if bpy.app.version >= (4, 0, 0):  # a mix with diffuse, which SubSplat does not make, is named
+            bsdf.inputs[PRINCIPLED["weight"]].default_value = 0.5
+            self.assertIn("material 'Principled': Subsurface Weight is 0.5; SubSplat renders the whole material "
+                          "as subsurface scattering, as weight 1", self.export().warnings)
         print(f"{VERSION}: Principled Rd_total {tuple(round(v, 4) for v in info.total_reflectance)}, "
               f"R_P {tuple(round(v, 4) for v in info.effective_range)} units")
 
