@@ -73,7 +73,8 @@ def _volume_material(name, sigma_a, sigma_s, eta, roughness):
     material = bpy.data.materials.new(name)
     if not version.BLENDER_5:  # 5.0: always True, and deprecated
         material.use_nodes = True
-    material.cycles.homogeneous_volume = True
+    if hasattr(material.cycles, "homogeneous_volume"):  # 5.0 has no such setting: Cycles finds out itself
+        material.cycles.homogeneous_volume = True
     tree = material.node_tree
     tree.nodes.clear()
     output = tree.nodes.new("ShaderNodeOutputMaterial")
