@@ -42,7 +42,8 @@ def volume_material(name, albedo, sigma_t):
     tree.links.new(scatter.outputs["Volume"], add.inputs[0])
     tree.links.new(absorption.outputs["Volume"], add.inputs[1])
     tree.links.new(add.outputs["Shader"], out.inputs["Volume"])
-    material.cycles.homogeneous_volume = True
+    if hasattr(material.cycles, "homogeneous_volume"):  # 5.0 has no such setting
+        material.cycles.homogeneous_volume = True
     material.cycles.volume_interpolation = "LINEAR"
     return material
 
