@@ -285,6 +285,41 @@ class Export(unittest.TestCase):
               f"R_P {tuple(round(v, 4) for v in info.effective_range)} units")
 
 
+class Principled34File(unittest.TestCase):
+    """Four Principled BSDFs saved by Blender 3.4 (tests/bpy/principled_3_4.blend), opened here: 4.x
+    converts them to v2. What SubSplat reads from them in each version (docs/PRINCIPLED.md)."""
+
+    def read(self, name):
+        material = bpy.data.materials[name]
+        material.subsplat.enabled = True
+        material.subsplat.source = "PRINCIPLED"
+        material.subsplat.mm_per_unit = 1.0
+        warnings = []
+        info = subsplat.native.profile_info(subsplat.export.materials.material_data(material, warnings))
+        return np.array(info.total_reflectance), np.array(info.effective_range), warnings
+
+    def test_the_same_material_reads_the_same_where_blender_converts_it_exactly(self):
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(helpers.SOURCE, "tests", "bpy", "principled_3_4.blend"))
+        v2 = bpy.app.version >= (4, 0, 0)
+        # Subsurface 1 (A), or Base Color equal to Subsurface Color (D): the same everywhere.
+        for name, effective_range in (("A", (1.357, 1.116, 0.654)), ("D", (0.679, 0.558, 0.327))):
+            total, reach, warnings = self.read(name)
+            np.testing.assert_allclose(total, (0.8, 0.5, 0.3), rtol=0.005, err_msg=name)
+            np.testing.assert_allclose(reach, effective_range, rtol=0.005, err_msg=name)
+            self.assertEqual(warnings, [])
+        # Subsurface 0.1 with two colours (B): 4.x reads Blender's mix (Cycles 3.x's colour), 3.x
+        # the Subsurface Color alone (left as it was; docs/PRINCIPLED.md).
+        total, reach, _warnings = self.read("B")
+        np.testing.assert_allclose(total, (0.26, 0.32, 0.39) if v2 else (0.8, 0.5, 0.3), rtol=0.01)
+        np.testing.assert_allclose(reach, (0.265, 0.129, 0.062) if v2 else (0.136, 0.112, 0.065), rtol=0.01)
+        # Subsurface 0 (C): no radius in 3.x, refused; in 4.x weight 0, scale 0.05, warned.
+        if v2:
+            self.assertIn("Subsurface Weight is 0.0", " ".join(self.read("C")[2]))
+        else:
+            with self.assertRaises(subsplat.export.ExportError):
+                self.read("C")
+
+
 class Render(unittest.TestCase):
     """The plane test's slab (tests/blender/test_plane.py): F_t(0)/pi * E * F_t * Rd_total."""
 
