@@ -41,6 +41,6 @@ def uses_nodes(idblock):
 
 
 def light_strength(light):
-    """A light's power as Cycles renders it: its energy times 2 ** exposure (4.4+; 3.x and 4.2 have
-    no exposure)."""
+    """A light's power as Cycles renders it: its energy times 2 ** exposure (4.5 and 5.0 have an
+    exposure; 3.x and 4.2 do not)."""
     return light.energy * 2.0 ** getattr(light, "exposure", 0.0)

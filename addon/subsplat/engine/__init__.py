@@ -17,7 +17,7 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
     bl_use_preview = True
 
     def __init__(self, *args, **kwargs):
-        # Blender 4.4+ passes arguments that bpy_struct's __init__ must receive; 3.x passes none.
+        # Blender 4.5 and 5.0 pass arguments that bpy_struct's __init__ must receive; 3.x and 4.2 none.
         super().__init__(*args, **kwargs)
         # Native GL objects belong to the GL context they were made in: a final render's native
         # context lives only inside render(), the viewport's in its session (made in view_draw()).
