@@ -73,9 +73,7 @@ class FilmTransparent(unittest.TestCase):
         import bpy
         scene = helpers.empty_scene(64, 64)
         scene.render.engine = "SUBSPLAT"  # was left at EEVEE: its background is exact in 3.4, half floats in 4.2+
-        scene.world.color = (0.3, 0.4, 0.5)  # would show, were the film not transparent
-        if bpy.app.version >= (5, 0, 0):  # every world renders its node tree
-            scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.3, 0.4, 0.5, 1.0)
+        helpers.set_world_colour(scene.world, (0.3, 0.4, 0.5))  # would show, were the film not transparent
         material = bpy.data.materials.new("Skin")
         material.subsplat.enabled = True
         material.subsplat.preset = "SKIN1"
