@@ -320,6 +320,24 @@ class Principled34File(unittest.TestCase):
                 self.read("C")
 
 
+class Deformation(unittest.TestCase):
+    def test_a_deformed_frame_exports_the_same_numbers_in_another_process(self):
+        """A farm splits an animation over processes (docs/ANIMATION.md): 3.4 exports the add-on's own
+        corner normals, 4.x and 5.x Blender's; either way another process must make the same bits."""
+        import subprocess
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import export_hash
+        here = export_hash.export_hash()
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "export_hash.py")
+        command = ([bpy.app.binary_path, "-b", "--factory-startup", "--python", script] if bpy.app.binary_path
+                   else [sys.executable, script])
+        result = subprocess.run(command, capture_output=True, text=True, timeout=120)
+        there = next((line.split()[1] for line in result.stdout.splitlines() if line.startswith("EXPORT_HASH")),
+                     result.stdout[-2000:] + result.stderr[-2000:])
+        print(f"{VERSION}: {export_hash.EXAMPLE} frame {export_hash.FRAME}: {here[:16]} here, {there[:16]} there")
+        self.assertEqual(here, there)
+
+
 class Render(unittest.TestCase):
     """The plane test's slab (tests/blender/test_plane.py): F_t(0)/pi * E * F_t * Rd_total."""
 
