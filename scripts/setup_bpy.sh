@@ -24,7 +24,8 @@ pids=()
 for version in $(grep -v '^#' scripts/bpy_versions.txt); do
   venv="build/bpy-$version"
   if [ -x "$venv/bin/python" ] &&
-     [ "$("$venv/bin/python" -c 'import bpy; print(bpy.app.version_string.split()[0])' 2>/dev/null)" = "$version" ]; then
+     [ "$("$venv/bin/python" -c 'import bpy; print(bpy.app.version_string.split()[0])' 2>/dev/null)" = \
+       "$version" ]; then
     continue
   fi
   echo "Installing bpy $version into $venv"
