@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set-up, build, then every test but the slow tier (docs/CI.md), in two build folders:
 #   build/      the native tests (CTest labels unit, native-gl), the tests inside `blender -b`
-#               (blender) and in Blender's UI under Xvfb (ui), in parallel;
+#               (blender) and in Blender's UI under Xvfb (ui), in parallel, and the per-version
+#               suite in the `bpy` module of Blender 4.2, 4.5 and 5.0 (bpy, docs/VERSIONS.md);
 #   build-san/  clang with AddressSanitizer and UndefinedBehaviorSanitizer (docs/RELIABILITY.md):
 #               the native tests again, and each libFuzzer target for FUZZ_SECONDS (default 60)
 #               from its seeds (label fuzz); any ASan or UBSan report, or a leak not of the GL
@@ -15,7 +16,7 @@ bash scripts/setup.sh
 # and Embree's threads), and two at once took 1.1 to 3.3 times as long together as one after the
 # other (docs/CI.md).
 (cd build && ctest -L '^(unit|native-gl)$' -j"$jobs" --output-on-failure &&
-  ctest -L '^(blender|ui)$' --output-on-failure)
+  ctest -L '^(blender|ui|bpy)$' --output-on-failure)
 
 CC=clang CXX=clang++ cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUBSPLAT_SANITIZE=ON \
   -DSUBSPLAT_FUZZ=ON > /dev/null

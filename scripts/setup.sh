@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES=(blender cmake g++ pkg-config libglm-dev libepoxy-dev libegl-dev libgl-dev libopenimageio-dev
           openimageio-tools libembree-dev googletest libgtest-dev python3-numpy python3-matplotlib xvfb zip
-          clang libclang-rt-14-dev)
+          clang libclang-rt-14-dev python3-venv)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -20,6 +20,10 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)"
+
+# Blender 4.2 LTS, 4.5 LTS and 5.x as the `bpy` module, one virtual environment each under build/
+# (scripts/setup_bpy.sh; installed once, then kept).
+bash scripts/setup_bpy.sh
 
 # The example SubEdit materials (example_blends/make_materials.py), made where missing.
 BLENDER_USER_SCRIPTS="$PWD/build/scripts" blender -b --factory-startup --addons subsplat \

@@ -7,7 +7,8 @@ a dipole, and its radius as the diffuse mean free path 1 / sigma_tr per channel 
     sigma_t' = sigma_tr / sqrt(3 (1 - alpha')),  sigma_s' = alpha' sigma_t',  sigma_a = sigma_t' - sigma_s'.
 
 Blender 3.x: Subsurface Color, radius = Subsurface Radius x Subsurface (the weight scales the
-radius, as in Cycles 3.x). Blender 4.x: Base Color, radius = Subsurface Radius x Subsurface Scale.
+radius, as in Cycles 3.x). Blender 4.x: Base Color, radius = Subsurface Radius x Subsurface Scale;
+a Subsurface Weight other than 1 (a mix with diffuse reflection) is not made, and a warning says so.
 An Image Texture node connected straight to the colour or radius input gives a value per texel;
 any other link is not read: the socket's own value is used and a warning says so.
 """
@@ -20,6 +21,7 @@ from . import native, version
 COLOR_INPUT = version.PRINCIPLED_SUBSURFACE_COLOR
 RADIUS_INPUT = version.PRINCIPLED_SUBSURFACE_RADIUS
 SCALE_INPUT = version.PRINCIPLED_SUBSURFACE_SCALE
+WEIGHT_INPUT = version.PRINCIPLED_SUBSURFACE_WEIGHT
 MAX_SIDE = 512          # texels per side read from an image (larger images are sampled down)
 MAX_REDUCED_ALBEDO = 0.99999  # albedo 1 would mean no absorption, which the dipole cannot have
 
@@ -105,6 +107,11 @@ def read(material, node, mm_per_unit, eta):
         warnings.append(f"material '{material.name}': {scale_socket.name} is connected to a node, which "
                         "SubSplat does not read; using the socket's own value")
     scale = float(scale_socket.default_value)
+    weight = node.inputs[WEIGHT_INPUT] if WEIGHT_INPUT else None
+    if weight is not None and (weight.is_linked or weight.default_value != 1.0):
+        warnings.append(f"material '{material.name}': {WEIGHT_INPUT} is "
+                        f"{'connected to a node' if weight.is_linked else round(float(weight.default_value), 4)}; "
+                        "SubSplat renders the whole material as subsurface scattering, as weight 1")
     if not np.all(np.isfinite(colour)) or colour.min() < 0.0 or colour.max() > 1.0:
         bad = colour.reshape(-1, 3)[np.flatnonzero(~((colour >= 0) & (colour <= 1)).all(axis=-1).ravel())[0]]
         raise PrincipledError(f"material '{material.name}': {COLOR_INPUT} must be in [0, 1] (the diffuse albedo), "

@@ -15,7 +15,7 @@ material slots are linked to the object and hold the twin materials.
 import bpy
 import numpy as np
 
-from . import principled
+from . import principled, version
 from .export import materials
 
 SUFFIX = " Cycles Twin"
@@ -71,8 +71,10 @@ def colour_and_density(sigma, absorption):
 
 def _volume_material(name, sigma_a, sigma_s, eta, roughness):
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    material.cycles.homogeneous_volume = True
+    if not version.BLENDER_5:  # 5.0: always True, and deprecated
+        material.use_nodes = True
+    if hasattr(material.cycles, "homogeneous_volume"):  # 5.0 has no such setting: Cycles finds out itself
+        material.cycles.homogeneous_volume = True
     tree = material.node_tree
     tree.nodes.clear()
     output = tree.nodes.new("ShaderNodeOutputMaterial")
@@ -109,7 +111,8 @@ def _volume_material(name, sigma_a, sigma_s, eta, roughness):
 
 def _grey_material(name):
     material = bpy.data.materials.new(name)
-    material.use_nodes = True
+    if not version.BLENDER_5:  # 5.0: always True, and deprecated
+        material.use_nodes = True
     tree = material.node_tree
     tree.nodes.clear()
     output = tree.nodes.new("ShaderNodeOutputMaterial")

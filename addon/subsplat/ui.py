@@ -151,7 +151,8 @@ def _fingerprint(material):
         values.append(value)
     if settings.source == "PRINCIPLED":  # the BSDF's inputs the conversion reads, and their images
         node = materials.principled_node(material)
-        for name in (principled.COLOR_INPUT, principled.RADIUS_INPUT, principled.SCALE_INPUT) if node else ():
+        names = (principled.COLOR_INPUT, principled.RADIUS_INPUT, principled.SCALE_INPUT, principled.WEIGHT_INPUT)
+        for name in (name for name in names if name) if node else ():
             socket = node.inputs[name]
             linked = socket.links[0].from_node if socket.is_linked else None
             image = getattr(linked, "image", None)

@@ -2,6 +2,8 @@
 import bpy
 
 BLENDER_4 = bpy.app.version >= (4, 0, 0)
+# 5.0: every material and world has a node tree; use_nodes is always True and deprecated.
+BLENDER_5 = bpy.app.version >= (5, 0, 0)
 
 # Principled BSDF inputs that were renamed or changed meaning in 4.0 (docs/PRINCIPLED.md).
 PRINCIPLED_SPECULAR = "Specular IOR Level" if BLENDER_4 else "Specular"
@@ -10,6 +12,9 @@ PRINCIPLED_SUBSURFACE_COLOR = "Base Color" if BLENDER_4 else "Subsurface Color"
 PRINCIPLED_SUBSURFACE_RADIUS = "Subsurface Radius"
 # What scales the radius: 3.x the Subsurface weight (as Cycles 3.x), 4.x Subsurface Scale.
 PRINCIPLED_SUBSURFACE_SCALE = "Subsurface Scale" if BLENDER_4 else "Subsurface"
+# 4.x's mix of diffuse and subsurface, which SubSplat does not make (3.x has no such input: its
+# Subsurface is the scale above).
+PRINCIPLED_SUBSURFACE_WEIGHT = "Subsurface Weight" if BLENDER_4 else None
 
 
 def needs_blender_corner_normals(mesh):
@@ -27,3 +32,15 @@ def blender_corner_normals(mesh, out):
         mesh.calc_normals_split()
         mesh.loops.foreach_get("normal", out)
     return out
+
+
+def uses_nodes(idblock):
+    """Whether a material or world renders through its node tree (always from 5.0 on, where reading
+    use_nodes is deprecated)."""
+    return idblock.node_tree is not None and (BLENDER_5 or idblock.use_nodes)
+
+
+def light_strength(light):
+    """A light's power as Cycles renders it: its energy times 2 ** exposure (4.5 and 5.0 have an
+    exposure; 3.x and 4.2 do not)."""
+    return light.energy * 2.0 ** getattr(light, "exposure", 0.0)

@@ -14,7 +14,7 @@ def lambertian(name, grey):
     material.use_nodes = True
     bsdf = material.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (grey, grey, grey, 1.0)
-    bsdf.inputs["Specular"].default_value = 0.0
+    bsdf.inputs[subsplat.version.PRINCIPLED_SPECULAR].default_value = 0.0  # 4.x: Specular IOR Level
     bsdf.inputs["Roughness"].default_value = 1.0
     return material
 

@@ -43,11 +43,20 @@ def empty_scene(width, height):
     scene.render.resolution_x, scene.render.resolution_y = width, height
     scene.render.resolution_percentage = 100
     world = bpy.data.worlds.new("World")
-    world.color = (0.0, 0.0, 0.0)
-    world.use_nodes = False
+    set_world_colour(world, (0.0, 0.0, 0.0))
     scene.world = world
     scene.view_settings.view_transform = "Standard"
     return scene
+
+
+def set_world_colour(world, colour):
+    """A plain world colour: world.color without nodes (3.x, 4.x); in 5.0, where every world renders
+    its node tree, its Background node's colour too."""
+    world.color = colour
+    if bpy.app.version >= (5, 0, 0):
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (*colour, 1.0)
+    else:
+        world.use_nodes = False
 
 
 def top_down_camera(scene, ortho_scale, height=5.0):

@@ -12,6 +12,8 @@ import math
 
 import bpy
 
+from subsplat_testing import helpers
+
 BOUNCES = 1024  # Blender's maximum
 
 
@@ -42,7 +44,8 @@ def volume_material(name, albedo, sigma_t):
     tree.links.new(scatter.outputs["Volume"], add.inputs[0])
     tree.links.new(absorption.outputs["Volume"], add.inputs[1])
     tree.links.new(add.outputs["Shader"], out.inputs["Volume"])
-    material.cycles.homogeneous_volume = True
+    if hasattr(material.cycles, "homogeneous_volume"):  # 5.0 has no such setting
+        material.cycles.homogeneous_volume = True
     material.cycles.volume_interpolation = "LINEAR"
     return material
 
@@ -136,8 +139,7 @@ def halfspace_scene(albedo, sigma_t, mu0, mu, strength=1.0, size_px=8, samples=6
     scene.render.resolution_x = scene.render.resolution_y = size_px
     scene.render.resolution_percentage = 100
     world = bpy.data.worlds.new("World")
-    world.use_nodes = False
-    world.color = (0.0, 0.0, 0.0)
+    helpers.set_world_colour(world, (0.0, 0.0, 0.0))
     scene.world = world
     mfp = 1.0 / sigma_t
     box(scene, "HalfSpace", (width_mfp * mfp, width_mfp * mfp, depth_mfp * mfp), 0.0,
@@ -183,7 +185,7 @@ def case_scene(medium, light, mu0, mu, size_px, samples, seed):
     if light == "sky":
         for obj in [o for o in scene.objects if o.type == "LIGHT"]:
             bpy.data.objects.remove(obj)
-        scene.world.color = (1.0, 1.0, 1.0)
+        helpers.set_world_colour(scene.world, (1.0, 1.0, 1.0))
     return scene
 
 

@@ -16,7 +16,9 @@ class SubsplatRenderEngine(bpy.types.RenderEngine):
     bl_use_shading_nodes_custom = False
     bl_use_preview = True
 
-    def __init__(self):
+    def __init__(self, *args, **kwargs):
+        # Blender 4.5 and 5.0 pass arguments that bpy_struct's __init__ must receive; 3.x and 4.2 none.
+        super().__init__(*args, **kwargs)
         # Native GL objects belong to the GL context they were made in: a final render's native
         # context lives only inside render(), the viewport's in its session (made in view_draw()).
         self._viewport = None

@@ -1,4 +1,5 @@
 """Blender lights as Light data."""
+from .. import version
 from .data import Light
 
 
@@ -8,8 +9,8 @@ def light_data(obj, matrix, warnings):
     light = obj.data
     axis = -matrix.col[2].xyz  # lights shine down their local -Z
     direction = tuple(axis.normalized()) if axis.length > 0 else (0.0, 0.0, -1.0)
-    data = Light(type="POINT", color=tuple(light.color), strength=light.energy, position=tuple(matrix.translation),
-                 direction=direction)
+    data = Light(type="POINT", color=tuple(light.color), strength=version.light_strength(light),
+                 position=tuple(matrix.translation), direction=direction)
     if light.type == "SUN":
         data.type = "SUN"
     elif light.type == "SPOT":

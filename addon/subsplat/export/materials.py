@@ -40,7 +40,7 @@ def cached_profile_sets():
 
 
 def principled_node(material):
-    if not material.use_nodes or material.node_tree is None:
+    if not version.uses_nodes(material):
         return None
     for node in material.node_tree.nodes:
         if node.type == "OUTPUT_MATERIAL" and node.is_active_output:

@@ -1,4 +1,5 @@
 """The scene's SubSplat settings as Settings data."""
+from .. import version
 from .data import Settings
 
 # The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
@@ -33,7 +34,7 @@ def background(scene):
     world = scene.world
     if world is None:
         return (0.0, 0.0, 0.0, 1.0)
-    if world.use_nodes and world.node_tree is not None:
+    if version.uses_nodes(world):
         node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
         if node is not None:
             color = node.inputs["Color"].default_value
