@@ -497,6 +497,11 @@ def chart(path, name, points):
             mine = sorted((p for p in shown if p["method"] == method), key=lambda p: p["ms"])
             if not mine:
                 continue
+            if method == "REFERENCE":  # hollow and on top: it sits among the SubSplat points it is the model of
+                axes.scatter([p["ms"] for p in mine], [error(p) for p in mine], marker=marker, s=150,
+                             facecolors="none", edgecolors=colour, linewidths=1.8, zorder=5,
+                             label=LEGEND.get(method, method))
+                continue
             axes.scatter([p["ms"] for p in mine], [error(p) for p in mine], c=colour, marker=marker,
                          s=90 if method == "TWIN" else 36, label=LEGEND.get(method, method), alpha=0.85,
                          edgecolors="none")
