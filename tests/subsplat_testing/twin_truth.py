@@ -4,19 +4,18 @@ scene: <stem>.exr, the mean of the seeds' renders (half float); <stem>_stderr.ex
 standard error (the seeds' scatter / sqrt(seeds)); <stem>.json, how it was made. bench/tradeoff.py
 and bench/stability.py measure against them; a missing truth is an error, never a skip.
 
-The error against a truth takes the truth's own noise out (error()).
+The error against a truth takes the truth's own noise out (error(); plain numpy, so that
+tests/unit/test_twin_truth.py checks it without Blender: bpy is imported where it is used).
 """
 import datetime
 import json
 import os
 import time
 
-import bpy
 import numpy as np
 
-from subsplat_testing import helpers
-
-DIRECTORY = os.path.join(helpers.SOURCE, "bench", "results", "truth")
+SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+DIRECTORY = os.path.join(SOURCE, "bench", "results", "truth")
 
 
 class MissingTruth(FileNotFoundError):
@@ -26,6 +25,7 @@ class MissingTruth(FileNotFoundError):
 def make_twin(scene):
     """The scene's Cycles twin (rendered on the CPU, fixed seeds) and its warnings; raises where a
     material cannot be converted (a SubEdit file: no truth)."""
+    import bpy
     import subsplat
     bpy.context.window.scene = scene
     twin, reports = subsplat.twin.make_cycles_twin(scene)
@@ -40,6 +40,8 @@ def make_twin(scene):
 
 def render_twin(scene, twin, samples, seed, path):
     """One Cycles render of the twin: its image and seconds (the window shows `scene` again after)."""
+    import bpy
+    from subsplat_testing import helpers
     twin.cycles.samples = samples
     twin.cycles.seed = seed
     window = bpy.context.window
@@ -53,6 +55,7 @@ def render_twin(scene, twin, samples, seed, path):
 
 
 def read_exr(path):
+    import bpy
     image = bpy.data.images.load(path, check_existing=False)
     width, height = image.size
     pixels = np.empty(width * height * 4, dtype=np.float32)
@@ -63,6 +66,7 @@ def read_exr(path):
 
 def write_exr(path, image):
     """A half-float EXR (bench/physical.py's write_truth_image does the same for its cases)."""
+    import bpy
     h, w = image.shape[:2]
     picture = bpy.data.images.new(os.path.basename(path), w, h, alpha=True, float_buffer=True)
     rgba = np.array(image, dtype=np.float32)
@@ -84,6 +88,8 @@ def paths(stem, directory=DIRECTORY):
 def render(stem, scene, twin, samples, seeds, scratch, record, directory=DIRECTORY):
     """Renders the truth (`seeds` renders of `samples` each, seeds 0 .. seeds - 1) and writes its three
     files; `record` (the command, what the scene is) goes into the JSON with the time and machine."""
+    import bpy
+    from subsplat_testing import helpers
     image_path, stderr_path, record_path = paths(stem, directory)
     os.makedirs(directory, exist_ok=True)
     per_seed, seconds = [], 0.0
