@@ -10,10 +10,16 @@
 - Deformation: the candle bends and twists over frames 1-48; FULL's error against REFERENCE before,
   during and after stays within its error at rest (see DEFORMATION_PERCENTAGE's comment). CI
   measures frames 1, 24 and 48, the slow tier also 12 and 36.
+- Physical truth: every case with a truth (stability_cases.Case.truth) has it committed in
+  bench/results/truth/ at bench/stability.py's size (a missing one fails), every case without one
+  says why; FULL on the thin back-lit ear at eta = 1 against its truth is the figure committed in
+  docs/images/stability/cases.json (bench/stability.py's), within 0.01.
 Figures are printed; a plot and strips go to $SUBSPLAT_TEST_OUTPUT/stability_*.png. The hard cases
 (grazing light, z0, thin features, lambda_m, ranges, scale) are measured by bench/stability.py and
 bounded in test_hard_cases.py.
 """
+import dataclasses
+import json
 import os
 import unittest
 
@@ -22,7 +28,7 @@ from subsplat_testing import helpers
 subsplat = helpers.enable_addon()
 from subsplat_testing import accuracy  # noqa: E402
 import numpy as np  # noqa: E402
-from subsplat_testing import stability_cases  # noqa: E402
+from subsplat_testing import stability_cases, twin_truth  # noqa: E402
 
 # The flicker sphere at 40 x 40 with REFERENCE at 8000 samples a frame (CI time; bench/stability.py
 # --flicker measures every method at finer settings). FULL must select coarse samples for a good
@@ -86,6 +92,35 @@ class Deformation(unittest.TestCase):
             with self.subTest(frame=frame):
                 self.assertLess(e["exitance_relative_rmse"], EXITANCE_OVER_REST * rest)
                 self.assertLess(e["robust_relative_rmse"], ROBUST_BOUND)
+
+
+class PhysicalTruth(unittest.TestCase):
+    SIZE = 64  # bench/stability.py's --size: the truths are rendered at it
+
+    def test_every_case_with_a_truth_has_it_committed(self):
+        for case in stability_cases.CASES:
+            with self.subTest(case=case.name):
+                if not case.truth:
+                    self.assertTrue(case.no_truth, f"{case.name} says why it has no physical truth")
+                    continue
+                for name in sorted(set(case.truth.values())):
+                    truth, record = twin_truth.load(stability_cases.truth_stem(name, self.SIZE))  # missing: fails
+                    self.assertEqual(truth[0].shape[:2], (self.SIZE, self.SIZE), name)
+                    self.assertTrue(np.isfinite(truth[0]).all() and np.isfinite(truth[1]).all(), name)
+                    self.assertGreater(float(truth[0][..., :3].mean()), 0.0, f"{name} is lit")
+
+    def test_full_against_the_truth_is_the_committed_figure(self):
+        (case,) = [c for c in stability_cases.CASES if c.name == "thin"]
+        case = dataclasses.replace(case, variants=[v for v in case.variants if v.label == "FULL"])
+        rows = [{}]
+        # REFERENCE only gives the mask here (its translucent pixels), so few samples do
+        figures = stability_cases.measure_physical(case, "ear", dict(case.setups)["ear"], self.SIZE, 5000, rows, False)
+        with open(os.path.join(helpers.SOURCE, "docs", "images", "stability", "cases.json")) as f:
+            (committed,) = [r for r in json.load(f)["thin"] if r["setup"] == "ear" and r["variant"] == "FULL"]
+        print(f"thin ear at eta 1, FULL against the physical truth: {rows[0]['twin_error']:.4f} (committed "
+              f"{committed['twin_error']:.4f}); REFERENCE at 5000 samples {figures['reference_twin_error']:.4f}; "
+              f"the truth's noise {figures['noise']:.4f}", flush=True)
+        self.assertAlmostEqual(rows[0]["twin_error"], committed["twin_error"], delta=0.01)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """The speed/accuracy chart command (bench/tradeoff.py) on its reduced sweep, and the automatic
 quality (scene.subsplat.quality = 'AUTO', docs/AUTO.md) on every example scene.
 
-`bench/tradeoff.py --sweep auto` renders each example at 10 %:
+`bench/tradeoff.py --sweep auto --as-is` renders each example at 10 % as it is (the scenes AUTO's
+bounds are stated for):
 - REFERENCE is the truth;
 - AUTO at its default target (1 %);
 - BRUTE and FULL (automatic levels) at AUTO's resolution and at every rung up to 1.5 times it, the
@@ -20,6 +21,12 @@ Asserted:
 - the error AUTO's resolution adds, over the finest point's, is within the target;
 - the resolution is a rung in [128, 2048] with the texels per R_P the target asks for, unless it
   is the floor or the ceiling.
+And `bench/tradeoff.py --sweep defaults` on skin_suzanne as its physical variant (eta = 1, specular 0:
+bench/tradeoff.py's docstring), measured against its physical truth, the converged Cycles twin image
+committed in bench/results/truth/ (a missing one makes the command, and so this test, fail): every
+point (REFERENCE, FULL at its defaults, AUTO, EEVEE, Cycles Principled, the twin at 1 and 16
+samples) has a finite error against the truth, the table has that column, the chart its two
+panels, and the twin's error falls from 1 to 16 samples (it converges to the truth).
 The full sweep is a benchmark (docs/TRADEOFF.md), not a test.
 Output (charts, table, tradeoff.json): $SUBSPLAT_TEST_OUTPUT/tradeoff/.
 """
@@ -39,6 +46,8 @@ SCENES_ALL = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose", "candl
 # chooses 768², and the points around it reach 1024², the sweep's costliest.)
 SCENES_CI = ("skin_suzanne", "candle_twist")
 SCENES = SCENES_ALL if helpers.SLOW else SCENES_CI
+PHYSICAL_SCENE = "skin_suzanne"  # one of bench/tradeoff.py's CONVERTIBLE examples: it has a physical truth
+TWIN_SAMPLES = (1, 16)
 TARGET = 0.01
 TEXELS_PER_RANGE = 1.5  # Renderer::texelsPerRangeFor(0.01)
 
@@ -73,7 +82,7 @@ class AutoQuality(unittest.TestCase):
         result = helpers.run_blender(
             "--python", os.path.join(helpers.SOURCE, "bench", "tradeoff.py"), "--",
             "--scenes", *SCENES, "--percentage", "10", "--samples", "50000", "--runs", "1", "--sweep", "auto",
-            "--eevee-samples", "1", "--cycles-samples", "4", "--output", cls.output,
+            "--eevee-samples", "1", "--cycles-samples", "4", "--as-is", "--output", cls.output,
             "--replay", os.path.join(BUILD, "native", "subsplat_replay"),
             timeout=helpers.TIMEOUT - 60, env=dict(os.environ, SUBSPLAT_TEST_OUTPUT=cls.output))
         print("\n".join(line for line in result.stdout.splitlines() if " ms, error " in line))
@@ -139,6 +148,52 @@ class AutoQuality(unittest.TestCase):
             self.assertIn(auto["irradiance_used"], (128, 192, 256, 384, 512, 768, 1024, 1536, 2048), name)
             if auto["irradiance_used"] not in (128, 2048):
                 self.assertGreaterEqual(auto["texels_per_range"], TEXELS_PER_RANGE * 0.999, name)
+
+
+class PhysicalTruth(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.output = os.path.join(helpers.OUTPUT, "tradeoff_physical")
+        os.makedirs(cls.output, exist_ok=True)
+        result = helpers.run_blender(
+            "--python", os.path.join(helpers.SOURCE, "bench", "tradeoff.py"), "--",
+            "--scenes", PHYSICAL_SCENE, "--percentage", "10", "--samples", "20000", "--runs", "1",
+            "--sweep", "defaults", "--eevee-samples", "1", "--cycles-samples", "4",
+            "--twin-samples", *map(str, TWIN_SAMPLES), "--output", cls.output,
+            "--replay", os.path.join(BUILD, "native", "subsplat_replay"),
+            timeout=helpers.TIMEOUT - 60, env=dict(os.environ, SUBSPLAT_TEST_OUTPUT=cls.output))
+        print("\n".join(line for line in result.stdout.splitlines() if " ms, " in line or "truth" in line))
+        if result.returncode != 0:
+            raise RuntimeError(f"bench/tradeoff.py failed ({result.returncode}): {result.stderr[-3000:]}")
+        with open(os.path.join(cls.output, "images", "tradeoff", "tradeoff.json")) as f:
+            cls.results = json.load(f)
+
+    def test_every_point_is_measured_against_the_physical_truth(self):
+        import bpy
+        with open(os.path.join(self.output, "TRADEOFF.md")) as f:
+            document = f.read()
+        self.assertEqual(set(self.results), {PHYSICAL_SCENE})
+        self.assertIn("| against the truth | (uncorrected) |", document)
+        for name in self.results:
+            points = self.results[name]
+            for p in points:
+                self.assertTrue(math.isfinite(p["twin_error"]) and p["twin_error"] >= 0, p)
+                self.assertTrue(math.isfinite(p["twin_mean_ratio"]) and p["twin_mean_ratio"] > 0, p)
+            (reference,) = [p for p in points if p["engine"] == "REFERENCE"]
+            self.assertLess(reference["truth"]["noise"], 0.1, f"{name}: the truth is converged")
+            twin = {p["settings"]["samples"]: p["twin_error"] for p in points if p["engine"] == "Cycles twin"}
+            self.assertEqual(set(twin), set(TWIN_SAMPLES), name)
+            print(f"{name}: against the truth (noise {reference['truth']['noise']:.4f}): REFERENCE "
+                  f"{reference['twin_error']:.4f}, the twin " + ", ".join(f"{s} samples {e:.4f}" for s, e in twin.items()))
+            self.assertLess(twin[max(TWIN_SAMPLES)], twin[min(TWIN_SAMPLES)], f"{name}: the twin converges")
+            self.assertEqual({p["engine"] for p in points}, {"REFERENCE", "SubSplat", "EEVEE", "Cycles", "Cycles twin"})
+            for what in ("reference", "full_default", "auto_default", "eevee", "cycles", "twin"):
+                picture = os.path.join(self.output, "images", "tradeoff", f"{name}_{what}_physical.png")
+                self.assertTrue(os.path.isfile(picture), picture)
+            chart = os.path.join(self.output, "images", "tradeoff", f"{name}.png")
+            image = bpy.data.images.load(chart, check_existing=False)
+            self.assertEqual(tuple(image.size), (1500, 500), "two panels: against the truth and against REFERENCE")
+            bpy.data.images.remove(image)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@
 - ui_helpers: Blender with its UI under Xvfb (timer-driven steps, screenshots);
 - hfunction: Chandrasekhar's H-function and the exact half-space radiance (plain numpy, no bpy);
 - truth: physical truth in Cycles, the medium as a volume, and the half-space check's scenes.
+- twin_truth: committed physical truths (the converged Cycles twin of a scene, bench/results/truth/)
+  and the error against one with its noise taken out (plain numpy where no bpy is needed).
 
 Found through PYTHONPATH: CTest sets it to tests/ for every test (tests/CMakeLists.txt), and
 bench/ scripts put tests/ on sys.path themselves.
