@@ -25,7 +25,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests"))
-from subsplat_testing import accuracy, helpers, physical  # noqa: E402
+from subsplat_testing import accuracy, helpers, physical, twin_truth  # noqa: E402
 
 METHODS = ("REFERENCE", "FULL", "EEVEE", "CYCLES_PRINCIPLED")
 
@@ -71,20 +71,9 @@ def render_twin(scene, twin, samples, seeds, path):
 
 def write_truth_image(path, image):
     """The truth's mean image as a half-float EXR (small enough to commit), for the benchmarks that
-    measure against it (bench/tradeoff.py --truth twin)."""
+    measure against it."""
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    h, w = image.shape[:2]
-    picture = bpy.data.images.new(os.path.basename(path), w, h, alpha=True, float_buffer=True)
-    rgba = np.array(image, dtype=np.float32)
-    rgba[..., 3] = 1.0
-    picture.pixels.foreach_set(rgba.ravel())
-    picture.filepath_raw = path
-    picture.file_format = "OPEN_EXR"
-    scene = bpy.context.scene
-    settings = scene.render.image_settings
-    settings.file_format, settings.color_depth, settings.exr_codec = "OPEN_EXR", "16", "ZIP"
-    picture.save_render(path, scene=scene)
-    bpy.data.images.remove(picture)
+    twin_truth.write_exr(path, image)
     return path
 
 

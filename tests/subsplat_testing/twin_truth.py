@@ -65,7 +65,7 @@ def read_exr(path):
 
 
 def write_exr(path, image):
-    """A half-float EXR (bench/physical.py's write_truth_image does the same for its cases)."""
+    """A half-float EXR of an image (its alpha set to 1); bench/physical.py writes its truths with it too."""
     import bpy
     h, w = image.shape[:2]
     picture = bpy.data.images.new(os.path.basename(path), w, h, alpha=True, float_buffer=True)
