@@ -140,9 +140,17 @@ def example_case(name, percentage, bounce=True):
     notes = []
     # SubSplat lights with the scene's lights only (the world is a background colour: issue 20), so the
     # world is black here, for every renderer and the twin alike.
-    if scene.world is not None and (any(scene.world.color) or scene.world.use_nodes):
-        scene.world.use_nodes = False
-        scene.world.color = (0.0, 0.0, 0.0)
+    world = scene.world
+    if world is not None and bpy.app.version >= (5, 0, 0):  # every world renders its node tree
+        world.color = (0.0, 0.0, 0.0)
+        for node in (world.node_tree.nodes if world.node_tree else []):
+            if node.type == "BACKGROUND":
+                node.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+                node.inputs["Strength"].default_value = 0.0
+        notes.append("world black")
+    elif world is not None and (any(world.color) or world.use_nodes):
+        world.use_nodes = False
+        world.color = (0.0, 0.0, 0.0)
         notes.append("world black")
     for m in bpy.data.materials:
         if m.subsplat.enabled:
