@@ -29,6 +29,19 @@ def memory_budget_bytes():
     return int(setting) << 20 if setting.isdigit() else 0
 
 
+def memory_budget_warning():
+    """What is wrong with the environment's SUBSPLAT_GPU_MEMORY_MB where it is what counts (the
+    preference unset) and is not a whole number of megabytes; None otherwise."""
+    addon = bpy.context.preferences.addons.get(__package__)
+    if addon is not None and addon.preferences is not None and addon.preferences.memory_budget_mb > 0:
+        return None
+    setting = os.environ.get("SUBSPLAT_GPU_MEMORY_MB")
+    if setting is None or setting.strip().isdigit():
+        return None
+    return (f"SUBSPLAT_GPU_MEMORY_MB={setting!r} is not a whole number of megabytes: ignored, the "
+            "memory budget is automatic")
+
+
 def register():
     bpy.utils.register_class(SubsplatPreferences)
 

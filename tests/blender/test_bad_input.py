@@ -232,6 +232,18 @@ class BadInputTable(unittest.TestCase):
                 for text in texts:
                     self.assertIn(text, output, f"{name}: the message does not say {text!r}")
 
+    def test_a_bad_memory_budget_variable_is_warned_about_and_ignored(self):
+        """SUBSPLAT_GPU_MEMORY_MB that is not a whole number of megabytes: the render warns, naming
+        the variable and its value, and goes on with the automatic budget (exit 0, an image)."""
+        for value in ("lots", "-5", "1.5"):
+            with self.subTest(value=value):
+                scene()
+                sphere()
+                status, output, pixels = batch_render("bad_memory_budget", {"SUBSPLAT_GPU_MEMORY_MB": value})
+                self.assertEqual(status, 0, f"exit status {status}\n{output[-3000:]}")
+                self.assertIsNotNone(pixels)
+                self.assertIn(f"Warning: SubSplat: SUBSPLAT_GPU_MEMORY_MB={value!r} is not a whole number", output)
+
     def test_degenerate_cases_render_finite_images(self):
         for name, build in DEGENERATE.items():
             with self.subTest(case=name):

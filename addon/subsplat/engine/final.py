@@ -49,6 +49,9 @@ def render_image(engine, depsgraph, preview):
         for warning in frame.warnings:
             engine.report({"WARNING"}, f"SubSplat: {warning}")
 
+    budget_warning = preferences.memory_budget_warning()
+    if budget_warning:
+        engine.report({"WARNING"}, f"SubSplat: {budget_warning}")
     native.set_memory_budget(preferences.memory_budget_bytes())
     # The native context's GL objects belong to the render GL context, current only inside render().
     context = native.Context()

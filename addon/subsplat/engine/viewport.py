@@ -172,6 +172,9 @@ class ViewportSession:
     def _send_pending(self):
         """Sends what view_update() found changed; the viewport's GL context is current."""
         if self.context is None:
+            budget_warning = preferences.memory_budget_warning()
+            if budget_warning:
+                self.report({"WARNING"}, f"SubSplat: {budget_warning}")
             native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
         # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
