@@ -124,19 +124,6 @@ def flicker(args, images):
     return lines + [""] + pictures
 
 
-def write_png(path, rgb):
-    """A display-referred picture (rows bottom first, as Blender's pixels) as PNG."""
-    h, w = rgb.shape[:2]
-    rgba = np.concatenate([rgb, np.ones((h, w, 1))], axis=-1).astype(np.float32)
-    picture = bpy.data.images.new(os.path.basename(path), w, h, float_buffer=False)
-    picture.pixels.foreach_set(rgba.ravel())
-    picture.filepath_raw = path
-    picture.file_format = "PNG"
-    picture.save()
-    bpy.data.images.remove(picture)
-    return path
-
-
 def _suzanne(percentage):
     scene = accuracy.open_example("skin_suzanne", percentage)
     scene.render.engine = "SUBSPLAT"
@@ -176,7 +163,7 @@ def main():
                           for image in (figures["reference_image"], figures["shown"][1])]
                 setup["physical_shown"] = figures["shown"][0]
                 grow = max(1, -(-128 // args.size))  # at least 128 pixels a tile, to be seen
-                write_png(os.path.join(images, setup["physical_picture"]),
+                accuracy.write_png(os.path.join(images, setup["physical_picture"]),
                           np.repeat(np.repeat(np.concatenate(strips[::-1], axis=0), grow, axis=0), grow, axis=1))
                 print(f"{case.name} | {setup['label']}: REFERENCE at eta 1 against the truth "
                       f"{figures['reference_twin_error']:.4f} (mean {figures['reference_twin_mean_ratio']:.3f}), "

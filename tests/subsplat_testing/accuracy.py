@@ -101,8 +101,13 @@ def write_strip(path, image, reference, mask):
     """PNG: image | reference | error x10, display-referred (sRGB, exposure 1)."""
     strip = np.concatenate([srgb(image[..., :3]), srgb(reference[..., :3]), error_colours(image, reference, mask)],
                            axis=1)
-    h, w = strip.shape[:2]
-    rgba = np.concatenate([strip, np.ones((h, w, 1))], axis=-1).astype(np.float32)
+    return write_png(path, strip)
+
+
+def write_png(path, rgb):
+    """A display-referred picture (rows bottom first, as Blender's pixels) as PNG."""
+    h, w = rgb.shape[:2]
+    rgba = np.concatenate([rgb, np.ones((h, w, 1))], axis=-1).astype(np.float32)
     picture = bpy.data.images.new(os.path.basename(path), w, h, float_buffer=False)
     picture.pixels.foreach_set(rgba.ravel())
     picture.filepath_raw = path
