@@ -31,6 +31,7 @@ from .diagnostics import last_render_error, last_render_passes, last_render_stat
 
 
 def register():
+    native.preload()
     properties.register()
     preferences.register()
     engine.register()

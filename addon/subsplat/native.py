@@ -160,6 +160,20 @@ def library():
     return _libs[0] if threading.current_thread() is threading.main_thread() else _libs[1]
 
 
+def preload():
+    """Loads the library now, if it can be loaded (a failure is raised again where it is used).
+
+    The add-on calls this when it registers, on the main thread and outside any draw: loading
+    (dlopen of the library, OpenImageIO, Embree, ...) takes 0.1 to 0.4 s, and ctypes releases the GIL
+    while it runs. Left to the material panel's first draw, a read-only callback, that was the window
+    in which a preview render thread's callback started and left Blender's "may not write" flag set
+    (docs/DECISIONS.md, "The GIL")."""
+    try:
+        library()
+    except SubsplatError:
+        pass
+
+
 def check_layout(lib, structure, name):
     """Raises SubsplatError unless a Structure has the size of the library's struct `name` and
     each of its fields the library's offset and size (a header changed without the binding)."""

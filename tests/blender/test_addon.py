@@ -11,7 +11,17 @@ import bpy
 
 from subsplat_testing import helpers
 
-subsplat = helpers.enable_addon()
+native_loaded_by_registration = None
+
+
+def _enable():
+    global native_loaded_by_registration
+    module = helpers.enable_addon()
+    native_loaded_by_registration = module.native._libs is not None
+    return module
+
+
+subsplat = _enable()
 native = subsplat.native
 materials = subsplat.export.materials
 
@@ -42,6 +52,13 @@ class Counting:
 
     def restore(self):
         setattr(self.module, self.name, self.original)
+
+
+class LibraryLoad(unittest.TestCase):
+    def test_the_library_is_loaded_when_the_addon_registers_not_in_a_panel_draw(self):
+        # Loading releases the GIL for 0.1-0.4 s; inside a draw that let a preview thread leave
+        # Blender's "may not write" flag set (docs/DECISIONS.md, "The GIL").
+        self.assertTrue(native_loaded_by_registration)
 
 
 class StructLayout(unittest.TestCase):
