@@ -28,7 +28,7 @@ void floats(FuzzedDataProvider& in, float* out, size_t count) {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   gl = new subsplat::testing::EglContext();
   const float sigmaA[3] = {0.03f, 0.17f, 0.48f}, sigmaS[3] = {0.74f, 0.88f, 1.01f};
-  if (ssNewProfileSetFromDipoles(1, 1, sigmaA, sigmaS, 1.3f, 0.0f, &profiles) != SS_OK) __builtin_trap();
+  if (ssNewProfileSetFromDipoles(1, 1, sigmaA, sigmaS, 1.3f, 0.0f, SS_PROFILE_DIPOLE, &profiles) != SS_OK) __builtin_trap();
   return 0;
 }
 

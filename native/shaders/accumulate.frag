@@ -30,7 +30,7 @@ void main() {
   vec2 q = (vec2(p) + 0.5) * 0.5 - 0.5;  // this pixel's centre in level k + 1 pixels
   ivec2 base = ivec2(floor(q));
   vec2 f = q - vec2(base);
-  vec3 sum = vec3(0.0);
+  vec4 sum = vec4(0.0);  // alpha: the TABULATED model's exitance-weighted incidence cosine
   float total = 0.0;
   for (int i = 0; i < 4; ++i) {
     ivec2 o = ivec2(i & 1, i >> 1);
@@ -44,7 +44,7 @@ void main() {
     float wz = exp(-lambdaZ * abs(z - cz) / boundingDiameter);
     float wm = materialWeight(m, cm);
     float w = wp * wz * wm;
-    sum += w * texelFetch(coarseExitance, c, 0).rgb;
+    sum += w * texelFetch(coarseExitance, c, 0);
     total += w;
   }
   if (total <= 0.0) {
@@ -60,10 +60,10 @@ void main() {
         if (!isTranslucent(cm)) continue;
         float cz = dot(cpo.xyz - cameraPosition, cameraForward);
         float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) * materialWeight(m, cm);
-        sum += w * texelFetch(coarseExitance, c, 0).rgb;
+        sum += w * texelFetch(coarseExitance, c, 0);
         total += w;
       }
     if (total <= 0.0) discard;
   }
-  exitance = vec4(sum / total, 0.0);
+  exitance = sum / total;
 }

@@ -8,10 +8,108 @@ struct Material {
   vec4 optics;         // eta, roughness, specular, kernel layer
   vec4 ranges;         // support radius, effective range R_P (max over rgb), R_P (min), mm per scene unit
   uvec4 profileMap;    // heterogeneous: offset into profileMaps, width, height (0: none); the material's first entry
+  vec4 medium;         // TABULATED model: rgb single-scattering albedo, w its transport layer (-1: none)
+  vec4 extinction;     // TABULATED model: rgb sigma_t per scene unit
 };
 layout(std430, binding = STORAGE_MATERIALS) readonly buffer Materials { Material materials[]; };
 
 bool isTranslucent(int m) { return m >= 0 && materials[m].baseColorKind.w > 0.5; }
+bool isTabulated(int m) { return m >= 0 && materials[m].medium.w >= 0.0; }
+
+// The TABULATED model's tables (material/transport_model.h: TransportTables, the same layout and
+// the same interpolation): row 0 H(mu) at t = k / 32; rows 1 .. nt the incidence factor
+// R(tau, mu0) / R(1) over the mu0 index; then T(tau, mu0_i, mu) in rows 1 + nt + 8 tau + i.
+layout(binding = UNIT_TRANSPORT_TABLES) uniform sampler2DArray transportTables;
+uniform vec3 transportGrid;  // the first slab's thickness, ln of the grid's step, the thickest (mfp)
+uniform int transportThicknesses;
+const int TRANSPORT_COSINES = 8;
+vec3 transportTexel(int m, int x, int y) {
+  return texelFetch(transportTables, ivec3(x, y, int(materials[m].medium.w)), 0).rgb;
+}
+vec3 hFunction(int m, float mu) {
+  float x = sqrt(clamp(mu, 0.0, 1.0)) * 32.0;
+  int k = min(int(x), 31);
+  return mix(transportTexel(m, k, 0), transportTexel(m, k + 1, 0), x - float(k));
+}
+float thicknessCoordinate(float tau) {
+  if (tau <= transportGrid.x) return max(tau, 0.0) / transportGrid.x;
+  return min(1.0 + log(tau / transportGrid.x) / transportGrid.y, float(transportThicknesses - 1));
+}
+float cosineCoordinate(float mu) {
+  return clamp(sqrt(clamp(mu, 0.0, 1.0)) * float(TRANSPORT_COSINES) - 1.0, 0.0, float(TRANSPORT_COSINES - 1));
+}
+// R(tau, mu0) / R(1) per channel, tau in mean free paths (beyond the table: a half-space).
+vec3 incidenceFactor(int m, vec3 tau, float mu0) {
+  vec3 a = materials[m].medium.rgb, root = sqrt(max(1.0 - a, 0.0));
+  vec3 halfSpace = (1.0 - root * hFunction(m, mu0)) / max(1.0 - root * hFunction(m, 1.0), 1e-30);
+  float v = cosineCoordinate(mu0);
+  int i = min(int(v), TRANSPORT_COSINES - 2);
+  float fv = v - float(i);
+  vec3 result;
+  for (int c = 0; c < 3; ++c) {
+    if (!(tau[c] < transportGrid.z)) { result[c] = halfSpace[c]; continue; }
+    float u = thicknessCoordinate(tau[c]);
+    int k = min(int(u), transportThicknesses - 2);
+    float fu = u - float(k);
+    float lo = mix(transportTexel(m, i, 1 + k)[c], transportTexel(m, i + 1, 1 + k)[c], fv);
+    float hi = mix(transportTexel(m, i, 2 + k)[c], transportTexel(m, i + 1, 2 + k)[c], fv);
+    result[c] = mix(lo, hi, fu);
+  }
+  return mix(result, vec3(0.0), lessThanEqual(a, vec3(0.0)));
+}
+// X(mu0, mu): the exit radiance over the Lambertian's, for light that entered at mean cosine mu0.
+vec3 exitFactor(int m, float mu0, float mu) {
+  vec3 a = materials[m].medium.rgb, root = sqrt(max(1.0 - a, 0.0));
+  mu0 = clamp(mu0, 1e-3, 1.0);
+  vec3 h0 = hFunction(m, mu0);
+  vec3 r = 1.0 - root * h0;
+  vec3 x = a * h0 * hFunction(m, mu) / (4.0 * (mu0 + clamp(mu, 0.0, 1.0)) * max(r, 1e-30));
+  return mix(x, vec3(1.0), lessThanEqual(r, vec3(0.0)));
+}
+// T(tau, mu0, mu) per channel: radiance scattered through a slab per unit irradiance, 1/sr.
+vec3 transmittedRadiance(int m, vec3 tau, float mu0, float mu) {
+  float v0 = cosineCoordinate(mu0), v = cosineCoordinate(mu);
+  int i = min(int(v0), TRANSPORT_COSINES - 2), j = min(int(v), TRANSPORT_COSINES - 2);
+  float f0 = v0 - float(i), fm = v - float(j);
+  vec3 result = vec3(0.0);
+  for (int c = 0; c < 3; ++c) {
+    if (!(tau[c] < transportGrid.z) || !(tau[c] > 0.0)) continue;
+    float u = thicknessCoordinate(tau[c]);
+    int k = min(int(u), transportThicknesses - 2);
+    float fu = u - float(k);
+    // Linear in mu at the four (thickness, mu0) nodes, then between them in ln T, as the CPU.
+    float logSum = 0.0, linear = 0.0;
+    bool positive = true;
+    for (int n = 0; n < 4; ++n) {
+      int dk = n >> 1, di = n & 1;
+      int row = 1 + transportThicknesses + (k + dk) * TRANSPORT_COSINES + i + di;
+      float v = mix(transportTexel(m, j, row)[c], transportTexel(m, j + 1, row)[c], fm);
+      float w = (dk == 1 ? fu : 1.0 - fu) * (di == 1 ? f0 : 1.0 - f0);
+      positive = positive && v > 0.0;
+      logSum += w * log(max(v, 1e-30));
+      linear += w * v;
+    }
+    result[c] = positive ? exp(logSum) : linear;
+  }
+  return result;
+}
+// The share of the light entering at normal ni that the splatting carries to normal no
+// (transport_model.h: sideWeight), and how much of a slab the part between an entry and an exit
+// normal is (slabLikeness).
+float sideWeight(float cosine) { return smoothstep(0.0, 1.0, cosine + 0.5); }
+float slabLikeness(float cosine) { return 1.0 - sideWeight(cosine); }
+// A unit vector in two numbers and back (octahedral mapping).
+vec2 octEncode(vec3 n) {
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  vec2 e = n.xy;
+  if (n.z < 0.0) e = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return e;
+}
+vec3 octDecode(vec2 e) {
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
 
 // The entry of a surface point of material m (its first entry) at texture
 // coordinate uv: the nearest texel of the material's profile map, repeating.

@@ -1,5 +1,7 @@
 // Direct light of one light view: diffuse for opaque surfaces, specular for
-// every surface, shadowed by the view's irradiance buffer.
+// every surface, shadowed by the view's irradiance buffer; and, for TABULATED
+// materials, the light that crossed a part to reach a surface the light does
+// not reach itself (material/transport_model.h: the slab's T(tau, mu0, mu)).
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
@@ -9,6 +11,9 @@ uniform int orthographic;
 uniform int resolution;
 uniform float shadowTexelSize;   // world size of a texel at distance 1 (or absolute, sun)
 uniform int unshadowedOutside;   // sun: surfaces outside the view are lit
+uniform int transmission;        // some material is TABULATED
+layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
+layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(location = 0) out vec4 radiance;
 
 float ggx(float nh, float alpha2) {
@@ -17,6 +22,21 @@ float ggx(float nh, float alpha2) {
 }
 float smithG1(float nv, float alpha2) {
   return 2.0 * nv / (nv + sqrt(alpha2 + (1.0 - alpha2) * nv * nv));
+}
+
+// Through a part: the light entered where this view's light first meets the object (the
+// irradiance buffer's texel over p) and crossed the thickness between there and p.
+vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t) {
+  vec4 pe = texelFetch(irradiancePositionMaterial, t, 0);
+  vec4 ne = texelFetch(irradianceNormalObject, t, 0);
+  if (pe.w < 0.0 || ne.w != object || !isTabulated(int(pe.w))) return vec3(0.0);
+  float depth = lightType == LIGHT_SUN ? dot(p, lightDirection) : distance(p, lightPosition);
+  float mu0 = clamp(dot(ne.xyz, towardsLight(pe.xyz)), 0.0, 1.0);
+  float thickness = max(depth - texelFetch(irradianceLightDepth, t, 0).r, 0.0) * mu0;  // along the entry's normal
+  float mu = clamp(dot(n, V), 0.0, 1.0);
+  vec3 entering = irradianceFacingLight(pe.xyz) * mu0 * fresnelTransmittance(materials[m].optics.x, mu0);
+  return entering * transmittedRadiance(m, thickness * materials[m].extinction.rgb, mu0, mu) *
+         fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
 }
 
 void main() {
@@ -28,7 +48,9 @@ void main() {
   int m = int(nm.w);
   vec3 L = towardsLight(p);
   float nl = dot(n, L);
-  if (nl <= 0.0) discard;
+  vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - p);
+  bool tabulated = transmission != 0 && isTabulated(m);
+  if (nl <= 0.0 && !tabulated) discard;
 
   // Does this view own the pixel, and does the light reach it?
   float texel = lightType == LIGHT_SUN ? shadowTexelSize
@@ -47,8 +69,20 @@ void main() {
     discard;
   }
 
+  vec3 through = vec3(0.0);
+  if (tabulated && (nl <= 0.0 || visibility == 0.0)) {
+    vec4 c = lightViewProj * vec4(p, 1.0);  // the texel over p itself, not over the offset point
+    vec2 q = c.xy / c.w;
+    if (c.w > 0.0 && all(lessThan(abs(q), vec2(1.0))))
+      through = transmitted(p, n, m, po.w, V, clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0),
+                                                        ivec2(resolution - 1)));
+  }
+  if (nl <= 0.0) {
+    radiance = vec4(through, 0.0);
+    return;
+  }
+
   vec3 E = irradianceFacingLight(p) * nl * visibility;
-  vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - p);
   float nv = max(dot(n, V), 1e-4);
   vec3 H = normalize(L + V);
   float roughness = clamp(materials[m].optics.y, 0.02, 1.0);
@@ -59,5 +93,5 @@ void main() {
                                   smithG1(nv, alpha2) * fresnel / (4.0 * nl * nv)
                             : 0.0;
   vec3 diffuse = isTranslucent(m) ? vec3(0.0) : materials[m].baseColorKind.rgb / PI;
-  radiance = vec4((diffuse + vec3(specular)) * E, 0.0);
+  radiance = vec4((diffuse + vec3(specular)) * E + through, 0.0);
 }

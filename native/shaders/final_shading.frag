@@ -1,4 +1,4 @@
-// Eq. 7: L = F_t(w_o) / pi * B(x_o) for translucent surfaces, plus the direct
+// Eq. 7: L = F_t(w_o) / pi * B(x_o) (times the TABULATED model's exit factor) for translucent surfaces, plus the direct
 // light gathered before; the background where no surface was hit.
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
@@ -18,8 +18,14 @@ void main() {
   vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
   if (isTranslucent(m)) {
     vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
-    float ft = fresnelTransmittance(materials[m].optics.x, dot(normalize(nm.xyz), V));
-    L += ft / PI * texelFetch(exitanceBuffer, pixel, 0).rgb;
+    float mu = dot(normalize(nm.xyz), V);
+    float ft = fresnelTransmittance(materials[m].optics.x, mu);
+    vec4 b = texelFetch(exitanceBuffer, pixel, 0);
+    // TABULATED: the half-space's exit factor for the light's mean incidence cosine here.
+    vec3 exitFactorHere = vec3(1.0);
+    float sum = b.r + b.g + b.b;
+    if (isTabulated(m) && sum > 0.0) exitFactorHere = exitFactor(m, b.a / sum, mu);
+    L += ft / PI * b.rgb * exitFactorHere;
   }
   color = vec4(L, 1.0);
 }

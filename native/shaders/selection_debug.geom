@@ -10,6 +10,7 @@ in SplatSample {
   int material;
   int level;
   vec4 split;
+  vec4 normalMu0;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

@@ -1,12 +1,16 @@
 // Eq. 12: B(x_o) += K(|x_o - x_i|, a) E(x_i) dA(x_i), with K the profile
 // convolved with the texel's Gaussian footprint (material/splat_kernel.h).
 // Where x_i and x_o have different profiles (heterogeneous materials, eq. 8),
-// K = sqrt(K_i K_o), each footprint-averaged on its own.
+// K = sqrt(K_i K_o), each footprint-averaged on its own. TABULATED materials
+// (material/transport_model.h): the splat is weighted out between surfaces that
+// face apart (the transmission term carries that light), and alpha gathers
+// the incidence cosine weighted by the exitance, for the exit factor.
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
 flat in float splatFootprint;
 flat in float splatObject;
 flat in int splatMaterial;
+flat in vec4 splatNormalMu0;     // the texel's normal (facing the light) and incidence cosine
 flat in float splatKernelRow;
 flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
 uniform int splatLevel;
@@ -43,5 +47,12 @@ void main() {
       kernel = sqrt(kernel * texture(splatKernels, vec3(uvO, materials[mo].optics.w)).rgb);
     }
   }
-  exitance = vec4(splatFlux * kernel, 0.0);
+  vec3 b = splatFlux * kernel;
+  if (isTabulated(splatMaterial)) {
+    vec3 no = texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).xyz;
+    b *= sideWeight(dot(splatNormalMu0.xyz, normalize(no)));
+    exitance = vec4(b, (b.r + b.g + b.b) * splatNormalMu0.w);
+    return;
+  }
+  exitance = vec4(b, 0.0);
 }

@@ -13,6 +13,7 @@ in SplatSample {
   int material;
   int level;  // irradiance level the sample was selected at
   vec4 split; // level 0: a second profile's part (splat.vert)
+  vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
@@ -34,6 +35,7 @@ flat out vec3 splatFlux;
 flat out float splatFootprint;
 flat out float splatObject;
 flat out int splatMaterial;
+flat out vec4 splatNormalMu0;
 // One splat of material entry m at position with the flux and footprint sigma.
 void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
   float reach = footprintReach * footprint + materials[m].ranges.x;
@@ -84,6 +86,7 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     splatFootprint = footprint;
     splatObject = sampleIn[0].object;
     splatMaterial = m;
+    splatNormalMu0 = sampleIn[0].normalMu0;
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 0.0, 1.0);
     EmitVertex();
   }

@@ -29,6 +29,7 @@ out SplatSample {
   int material;
   int level;  // irradiance level the sample was selected at
   vec4 split; // xyz the offset of a second profile's part, w its entry * 32 + sixteenths (0: none)
+  vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
 } sampleOut;
 
 bool valid(int level, ivec2 texel) {
@@ -57,6 +58,7 @@ void main() {
   sampleOut.material = -1;
   sampleOut.level = level;
   sampleOut.split = vec4(0.0);
+  sampleOut.normalMu0 = vec4(0.0);
   gl_Position = vec4(0.0);
   if (levels > 1) {
     for (int k = level + 1; k < levels; ++k)
@@ -71,7 +73,9 @@ void main() {
   sampleOut.material = m;
   sampleOut.flux = ff.rgb;
   sampleOut.footprint = ff.a;
-  sampleOut.object = texelFetch(irradianceNormalObject, texel, level).w;
+  vec4 no = texelFetch(irradianceNormalObject, texel, level);
+  sampleOut.object = no.w;
+  sampleOut.normalMu0 = vec4(no.xyz, clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0));
   if (profileSplits != 0) {
     vec4 split = texelFetch(irradianceProfileSplit, texel, level);
     sampleOut.split = vec4(split.xyz * ff.a, split.w);

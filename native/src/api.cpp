@@ -21,6 +21,7 @@
 #include "gl/state_report.h"
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
+#include "material/transport_model.h"
 #include "renderer.h"
 #include "scene_file.h"
 #include "subsplat/subsplat.h"
@@ -199,6 +200,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsMaterialDesc, mm_per_unit),
     SS_FIELD(SsMaterialDesc, roughness),
     SS_FIELD(SsMaterialDesc, specular),
+    SS_FIELD(SsMaterialDesc, profile_model),
     SS_FIELD(SsMaterialDesc, profiles),
     SS_STRUCT(SsLightDesc),
     SS_FIELD(SsLightDesc, type),
@@ -524,6 +526,22 @@ SsStatus ssDipoleTotalReflectance(uint64_t count, const double* reduced_albedo, 
   });
 }
 
+SsStatus ssTotalReflectance(int32_t profile_model, uint64_t count, const double* albedo, double eta, double* out) {
+  return guarded("ssTotalReflectance", [&] {
+    if (profile_model != SS_PROFILE_DIPOLE && profile_model != SS_PROFILE_TABULATED)
+      subsplat::fail(SS_INVALID_ARGUMENT, "unknown profile model " + std::to_string(profile_model));
+    if (count > 0 && (albedo == nullptr || out == nullptr)) subsplat::fail(SS_INVALID_ARGUMENT, "albedo or out is NULL");
+    if (!(std::isfinite(eta) && eta > 0.0)) subsplat::fail(SS_INVALID_ARGUMENT, "eta must be positive, got " + std::to_string(eta));
+    for (uint64_t i = 0; i < count; ++i)
+      if (!(albedo[i] >= 0.0 && albedo[i] <= 1.0))
+        subsplat::fail(SS_INVALID_ARGUMENT, "albedo " + std::to_string(i) + " must be in [0, 1], got " +
+                                                std::to_string(albedo[i]));
+    for (uint64_t i = 0; i < count; ++i)
+      out[i] = profile_model == SS_PROFILE_TABULATED ? subsplat::tabulatedTotalReflectance(albedo[i], eta)
+                                                     : subsplat::dipoleTotalReflectance(albedo[i], eta);
+  });
+}
+
 SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out) {
   return guarded("ssGetProfileInfo", [&] {
     const SsMaterialDesc& m = deref(material, "material");
@@ -531,13 +549,13 @@ SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* out) {
     subsplat::validateMaterial(m);
     if (m.kind == SS_MATERIAL_OPAQUE) subsplat::fail(SS_INVALID_ARGUMENT, "material is not translucent");
     std::shared_ptr<const subsplat::ProfileSet> set;
-    std::vector<std::unique_ptr<subsplat::RadialProfile>> channels;
+    std::vector<std::shared_ptr<const subsplat::RadialProfile>> channels;
     for (int c = 0; c < 3; ++c) {
       if (m.kind == SS_MATERIAL_SUBEDIT) {
         if (!set) set = profileSet(m.profiles, "material profiles");
-        channels.push_back(std::make_unique<subsplat::SegmentedProfile>(set->channel(0, c)));
+        channels.push_back(std::make_shared<subsplat::SegmentedProfile>(set->channel(0, c)));
       } else {
-        channels.push_back(std::make_unique<subsplat::Dipole>(subsplat::dipoleMaterial(m).channels[size_t(c)]));
+        channels.push_back(subsplat::makeMediumProfile(subsplat::dipoleMaterial(m).channels[size_t(c)], m.profile_model));
       }
     }
     *out = SsProfileInfo{};
@@ -566,12 +584,12 @@ SsStatus ssNewProfileSet(const SsProfileSetDesc* desc, float tol, SsProfileSet* 
 }
 
 SsStatus ssNewProfileSetFromDipoles(uint32_t width, uint32_t height, const float* sigmaA, const float* sigmaSPrime,
-                                    float eta, float tol, SsProfileSet* out) {
+                                    float eta, float tol, int32_t profileModel, SsProfileSet* out) {
   return guarded("ssNewProfileSetFromDipoles", [&] {
     newProfileSet(out, [&] {
       return subsplat::ProfileSet::fromDipoles(int(std::min<uint32_t>(width, INT32_MAX)),
                                                int(std::min<uint32_t>(height, INT32_MAX)), sigmaA, sigmaSPrime, eta,
-                                               tolerance(tol));
+                                               tolerance(tol), profileModel);
     });
   });
 }

@@ -81,7 +81,7 @@ TEST(ApiResources, ReleasingAContextOrProfileSetTwiceIsAnError) {
 
   const float a[3] = {0.01f, 0.02f, 0.03f}, s[3] = {1.0f, 1.0f, 1.0f};
   SsProfileSet set = nullptr;
-  ASSERT_EQ(ssNewProfileSetFromDipoles(1, 1, a, s, 1.3f, 0.0f, &set), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssNewProfileSetFromDipoles(1, 1, a, s, 1.3f, 0.0f, SS_PROFILE_DIPOLE, &set), SS_OK) << ssGetLastError();
   ASSERT_EQ(ssReleaseProfileSet(set), SS_OK) << ssGetLastError();
   EXPECT_EQ(ssReleaseProfileSet(set), SS_INVALID_HANDLE);
   EXPECT_NE(std::string(ssGetLastError()).find("not a live subsplat profile set"), std::string::npos)

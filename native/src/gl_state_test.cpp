@@ -156,7 +156,7 @@ class GlState : public ::testing::Test {
         s.insert(s.end(), marble ? kMarbleS : kSkinS, (marble ? kMarbleS : kSkinS) + 3);
       }
     SsProfileSet set = nullptr;
-    ASSERT_EQ(ssNewProfileSetFromDipoles(8, 4, a.data(), s.data(), 1.3f, 0.0f, &set), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssNewProfileSetFromDipoles(8, 4, a.data(), s.data(), 1.3f, 0.0f, SS_PROFILE_DIPOLE, &set), SS_OK) << ssGetLastError();
     sets.push_back(set);
     SsMaterialDesc m = testing::marbleMaterial(100.0f);
     m.kind = SS_MATERIAL_SUBEDIT;

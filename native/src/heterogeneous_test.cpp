@@ -35,7 +35,8 @@ class Heterogeneous : public ::testing::Test {
         s.insert(s.end(), m ? kMarbleS : kSkinS, (m ? kMarbleS : kSkinS) + 3);
       }
     SsProfileSet set = nullptr;
-    EXPECT_EQ(ssNewProfileSetFromDipoles(uint32_t(width), uint32_t(height), a.data(), s.data(), 1.3f, 0.0f, &set),
+    EXPECT_EQ(ssNewProfileSetFromDipoles(uint32_t(width), uint32_t(height), a.data(), s.data(), 1.3f, 0.0f,
+                                         SS_PROFILE_DIPOLE, &set),
               SS_OK)
         << ssGetLastError();
     sets.push_back(set);

@@ -159,11 +159,12 @@ void Renderer::render(int width, int height, float* rgba) {
     for (const LightView& view : lightViews(light, translucent, all, res)) {
       profiler.begin(SS_STAGE_BUFFERS);
       irradiance_.render(scene_, gpuScene_, view);
+      if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
       if (adaptive) irradiance_.buildHierarchy();
       profiler.end();
       if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
       profiler.begin(SS_STAGE_SHADING);
-      shading_.directLighting(scene_, view, irradiance_, splatting_);
+      shading_.directLighting(scene_, view, irradiance_, splatting_, kernels.transport);
       profiler.end();
       ++stats_.light_views;
       gl::checkErrors("light view");
@@ -175,7 +176,7 @@ void Renderer::render(int width, int height, float* rgba) {
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
   profiler.begin(SS_STAGE_SHADING);
-  shading_.finalShading(scene_, splatting_, splats_.exitance(), settings_.background);
+  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background);
   profiler.end();
 
   profiler.begin(SS_STAGE_READBACK);

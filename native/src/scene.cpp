@@ -36,6 +36,8 @@ void validateMaterial(const SsMaterialDesc& m) {
   require(std::isfinite(m.specular) && m.specular >= 0 && m.specular <= 1,
           "specular must be in [0, 1], got " + std::to_string(m.specular));
   if (m.kind == SS_MATERIAL_OPAQUE) return;
+  require(m.profile_model == SS_PROFILE_DIPOLE || m.profile_model == SS_PROFILE_TABULATED,
+          "profile model " + std::to_string(m.profile_model) + " is not DIPOLE (0) or TABULATED (1)");
   require(std::isfinite(m.eta) && m.eta >= 1.0f && m.eta <= 3.0f,
           "eta must be in [1, 3], got " + std::to_string(m.eta));
   require(std::isfinite(m.mm_per_unit) && m.mm_per_unit >= 1e-6f && m.mm_per_unit <= 1e9f,
@@ -56,6 +58,7 @@ DipoleMaterial dipoleMaterial(const SsMaterialDesc& d) {
   DipoleMaterial m;
   for (int c = 0; c < 3; ++c) m.channels[c] = {d.sigma_a[c], d.sigma_s_prime[c], d.eta};
   m.mmPerUnit = d.mm_per_unit;
+  m.model = d.profile_model;
   return m;
 }
 
@@ -72,11 +75,16 @@ void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr
     bool same = old && old->desc.kind == SS_MATERIAL_DIPOLE &&
                 std::memcmp(old->desc.sigma_a, desc.sigma_a, sizeof desc.sigma_a) == 0 &&
                 std::memcmp(old->desc.sigma_s_prime, desc.sigma_s_prime, sizeof desc.sigma_s_prime) == 0 &&
-                old->desc.eta == desc.eta && old->desc.mm_per_unit == desc.mm_per_unit;
-    if (same)
+                old->desc.eta == desc.eta && old->desc.mm_per_unit == desc.mm_per_unit &&
+                old->desc.profile_model == desc.profile_model;
+    if (same) {
       m.kernels = old->kernels;
-    else
-      m.kernels.push_back(SplatKernel::forDipole(dipoleMaterial(desc)));
+      m.transport = old->transport;
+    } else {
+      DipoleMaterial medium = dipoleMaterial(desc);
+      m.kernels.push_back(SplatKernel::forDipole(medium));
+      if (desc.profile_model == SS_PROFILE_TABULATED) m.transport = std::make_shared<const TransportTables>(medium.channels);
+    }
   } else if (desc.kind == SS_MATERIAL_SUBEDIT) {
     m.profiles = std::move(profiles);
     bool same = old && old->profiles == m.profiles && old->desc.mm_per_unit == desc.mm_per_unit;
@@ -228,6 +236,7 @@ void Scene::resolveMaterials() {
       entry.base = base;
       entry.id = id;
       entry.profiles = material.profiles;
+      entry.transport = material.transport;
       dense_.push_back(std::move(entry));
     }
     if (dense_[size_t(base)].mapped()) {
@@ -237,8 +246,8 @@ void Scene::resolveMaterials() {
   }
   if (maps.empty()) maps.push_back(0);
   profileMaps_ = std::move(maps);
-  heterogeneous_ = false;
-  for (const MaterialEntry& e : dense_) heterogeneous_ |= e.mapped();
+  heterogeneous_ = tabulated_ = false;
+  for (const MaterialEntry& e : dense_) heterogeneous_ |= e.mapped(), tabulated_ |= bool(e.transport);
   for (auto& [objectId, mesh] : meshes_) {
     std::vector<uint32_t> dense(mesh.materialIds.size());
     mesh.translucent = false;

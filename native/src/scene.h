@@ -14,6 +14,7 @@
 
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
+#include "material/transport_model.h"
 #include "subsplat/subsplat.h"
 
 namespace subsplat {
@@ -47,6 +48,7 @@ struct Material {
   SsMaterialDesc desc{};  // desc.profiles is not kept; see profiles
   std::shared_ptr<const ProfileSet> profiles;               // SUBEDIT
   std::vector<std::shared_ptr<const SplatKernel>> kernels;  // DIPOLE: 1; SUBEDIT: one per palette entry
+  std::shared_ptr<const TransportTables> transport;          // DIPOLE with the TABULATED model
 };
 
 // What the renderers index: one entry per opaque or DIPOLE material and one
@@ -56,6 +58,7 @@ struct MaterialEntry {
   SsMaterialDesc desc{};
   std::shared_ptr<const SplatKernel> kernel;    // translucent only
   std::shared_ptr<const ProfileSet> profiles;   // SUBEDIT: the material's set
+  std::shared_ptr<const TransportTables> transport;  // the TABULATED model's angular and thin-part tables
   int base = 0;                                 // the material's first entry
   uint32_t id = 0;                              // the caller's material id
   // The entry of a surface point of this material with texture coordinate uv
@@ -106,6 +109,8 @@ class Scene {
   // Whether some object can carry more than one translucent entry, so that
   // R_d(x_i, x_o) = sqrt(P_i P_o) needs both ends (eq. 8).
   bool heterogeneous() const { return heterogeneous_; }
+  // Whether some material has the TABULATED model (its passes: thickness, transmission).
+  bool tabulated() const { return tabulated_; }
   const std::vector<SsLightDesc>& lights() const { return lights_; }
   const SsCameraDesc& camera() const { return camera_; }
   bool hasCamera() const { return hasCamera_; }
@@ -117,7 +122,7 @@ class Scene {
   std::map<uint32_t, Mesh> meshes_;
   std::vector<MaterialEntry> dense_;
   std::vector<uint16_t> profileMaps_;
-  bool heterogeneous_ = false;
+  bool heterogeneous_ = false, tabulated_ = false;
   std::map<uint32_t, int> denseIndex_;
   std::vector<SsLightDesc> lights_;
   SsCameraDesc camera_{};

@@ -18,8 +18,9 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 2;
-// Format 1 is format 2 with a shorter settings record (no target_error: the default).
+constexpr uint32_t kFormatVersion = 3;
+// Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
+// and 2 have a shorter material record (no profile_model: the dipole).
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
@@ -27,10 +28,13 @@ constexpr uint32_t kMeshHasUvs = 1;
 
 // The API structs are written as they lie in memory: 4-byte fields only, no
 // padding (asserted), little-endian (the only byte order the library builds for).
-// A material record holds SsMaterialDesc up to its profiles handle (kMaterialBytes),
+// A material record holds SsMaterialDesc up to profile_model (kMaterialBytes),
 // then for SUBEDIT the profile set: n, r_s, palette and map.
-constexpr size_t kMaterialBytes = 14 * 4;
-static_assert(offsetof(SsMaterialDesc, profiles) == kMaterialBytes && sizeof(SsLightDesc) == 13 * 4 &&
+constexpr size_t kMaterialBytes = 15 * 4;
+constexpr size_t kMaterialBytesV2 = 14 * 4;
+static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
+                  offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
+                  offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == 13 * 4 &&
                   sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 15 * 4 &&
                   offsetof(SsSettings, target_error) == kSettingsBytesV1,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
@@ -130,11 +134,11 @@ void readMesh(Scene& scene, Reader& r) {
   scene.setMesh(id, desc);
 }
 
-void readMaterial(Scene& scene, Reader& r) {
+void readMaterial(Scene& scene, Reader& r, uint32_t version) {
   uint32_t id = r.get<uint32_t>();
   SsMaterialDesc desc{};
-  std::vector<char> bytes = r.getArray<char>(kMaterialBytes);
-  std::memcpy(&desc, bytes.data(), kMaterialBytes);
+  std::vector<char> bytes = r.getArray<char>(version >= 3 ? kMaterialBytes : kMaterialBytesV2);
+  std::memcpy(&desc, bytes.data(), bytes.size());
   std::shared_ptr<const ProfileSet> profiles;
   if (desc.kind == SS_MATERIAL_SUBEDIT) {
     int32_t segments = r.get<int32_t>();
@@ -178,7 +182,7 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
     Reader r(payload.data(), payload.size(), path + ", record " + std::to_string(index));
     switch (tag) {
       case kMaterial:
-        readMaterial(scene, r);
+        readMaterial(scene, r, version);
         break;
       case kMesh:
         readMesh(scene, r);

@@ -1,14 +1,18 @@
 // subsplat_tables: writes the transport tables (native/src/transport/profile_table.h) and checks
 // their half-space totals against Chandrasekhar's H-function (docs/TRANSPORT.md).
 //
-//   subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT
+//   subsplat_tables [--small | --half-space] [--paths N] [--seed S] [--threads T] [--check] OUTPUT
+//   subsplat_tables --slab-table [--threads T] OUTPUT
 //   subsplat_tables --hfunction ALBEDO
 //   subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]
 //   subsplat_tables --dipole
 //
-// --small: the table the unit test regenerates; --check: print, per albedo, the half-space
+// --small: the table the unit test regenerates; --half-space: the table the TABULATED profile model
+// reads (native/src/transport/data/half_space_profiles.txt); --check: print, per albedo, the half-space
 // reflectance against 1 - sqrt(1 - a) H(mu0) and each slab's against adding-doubling, in
 // standard errors, and the once-scattered parts against their closed forms.
+// --slab-table: the adding-doubling table of thin slabs the TABULATED model reads
+// (native/src/transport/data/slab_table.txt; transport/slab_table.h).
 // --hfunction: print mu, H(mu) and the half-space albedo R(mu) for mu = 0, 0.05, ..., 1.
 // --slab: a slab's reflectance and transmittance by adding-doubling and by the Monte Carlo
 // (PATHS, default 1e6), side by side. --dipole: the classical dipole's total reflectance at
@@ -26,13 +30,15 @@
 #include "transport/adding_doubling.h"
 #include "transport/hfunction.h"
 #include "transport/profile_table.h"
+#include "transport/slab_table.h"
 
 using namespace subsplat;
 
 namespace {
 
 int usage() {
-  std::fprintf(stderr, "usage: subsplat_tables [--small] [--paths N] [--seed S] [--threads T] [--check] OUTPUT\n"
+  std::fprintf(stderr, "usage: subsplat_tables [--small | --half-space] [--paths N] [--seed S] [--threads T] [--check] OUTPUT\n"
+                       "       subsplat_tables --slab-table [--threads T] OUTPUT\n"
                        "       subsplat_tables --hfunction ALBEDO\n"
                        "       subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]\n"
                        "       subsplat_tables --dipole\n");
@@ -155,6 +161,28 @@ int main(int argc, char** argv) {
         return 0;
       } else if (arg == "--small") {
         spec = smallProfileTableSpec();
+      } else if (arg == "--slab-table" && argc >= 3 && argc <= 5) {
+        int slabThreads = 1;
+        const char* path = nullptr;
+        for (int j = 2; j < argc; ++j) {
+          std::string a = argv[j];
+          if (a == "--threads" && j + 1 < argc)
+            slabThreads = std::atoi(argv[++j]);
+          else
+            path = argv[j];
+        }
+        if (!path) return usage();
+        auto start = std::chrono::steady_clock::now();
+        std::string text = writeSlabTable(makeSlabTable(slabThreads));
+        std::ofstream out(path, std::ios::binary);
+        out << text;
+        if (!out) throw std::runtime_error(std::string("cannot write ") + path);
+        std::fprintf(stderr, "subsplat_tables: slab table in %.1f s (%d threads), %zu bytes to %s\n",
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), slabThreads,
+                     text.size(), path);
+        return 0;
+      } else if (arg == "--half-space") {
+        spec = halfSpaceProfileTableSpec();
       } else if (arg == "--check") {
         doCheck = true;
       } else if (arg == "--paths" && more) {

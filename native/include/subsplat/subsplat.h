@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 11
+#define SS_API_VERSION 12
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -79,6 +79,13 @@ typedef enum SsMaterialKind {
   SS_MATERIAL_SUBEDIT = 2  /* heterogeneous: SubEdit profiles mapped by UV (eq. 8, 9) */
 } SsMaterialKind;
 
+/* DIPOLE materials: the model their profile comes from (docs/TRANSPORT.md, "The TABULATED model"). */
+typedef enum SsProfileModel {
+  SS_PROFILE_DIPOLE = 0,    /* the classical dipole (Jensen et al. 2001), the paper's */
+  SS_PROFILE_TABULATED = 1  /* exact transport tables: the half-space's profile and angular factors,
+                             * thin slabs' reflection and transmission */
+} SsProfileModel;
+
 typedef struct SsMaterialDesc {
   int32_t kind;            /* SsMaterialKind */
   float base_color[3];     /* OPAQUE: diffuse albedo */
@@ -88,6 +95,7 @@ typedef struct SsMaterialDesc {
   float mm_per_unit;       /* DIPOLE, SUBEDIT: millimetres per scene unit */
   float roughness;         /* specular roughness in [0, 1] */
   float specular;          /* Principled-style specular level in [0, 1] */
+  int32_t profile_model;   /* DIPOLE: SsProfileModel */
   /* SUBEDIT: the profiles; the material keeps its own reference, so the set may be
    * released after ssSetMaterial. Meshes without UVs get the set's most common profile. */
   SsProfileSet profiles;
@@ -307,11 +315,12 @@ typedef struct SsProfileSetInfo {
 } SsProfileSetInfo;
 
 SS_API SsStatus ssNewProfileSet(const SsProfileSetDesc* desc, float tolerance, SsProfileSet* out);
-/* One dipole per texel: 3 * width * height values each of sigma_a and sigma_s' (per mm),
- * texel-major then RGB; each profile keeps its dipole's total diffuse reflectance. */
+/* One homogeneous medium per texel: 3 * width * height values each of sigma_a and sigma_s' (per
+ * mm), texel-major then RGB, its radial profile from profile_model (SsProfileModel); each profile
+ * keeps its model's total reflectance. */
 SS_API SsStatus ssNewProfileSetFromDipoles(uint32_t width, uint32_t height, const float* sigma_a,
                                            const float* sigma_s_prime, float eta, float tolerance,
-                                           SsProfileSet* out);
+                                           int32_t profile_model, SsProfileSet* out);
 /* A SubEdit file (OpenEXR; docs/SUBEDIT_FILE.md). Path in UTF-8. */
 SS_API SsStatus ssLoadProfileSet(const char* path, float tolerance, SsProfileSet* out);
 /* Writes the set as a SubEdit file, one texel per map texel. */
@@ -330,6 +339,10 @@ SS_API SsStatus ssGetProfileInfo(const SsMaterialDesc* material, SsProfileInfo* 
 /* Rd_total of a dipole (Jensen et al. 2001) for each of `count` reduced albedos in [0, 1] under
  * the relative index eta (positive): the add-on inverts it to read a Principled BSDF's colour. */
 SS_API SsStatus ssDipoleTotalReflectance(uint64_t count, const double* reduced_albedo, double eta, double* out);
+/* The same for either profile model (SsProfileModel): what a DIPOLE material of that model
+ * reflects of a normal beam over the whole plane, per single-scattering albedo in [0, 1]. */
+SS_API SsStatus ssTotalReflectance(int32_t profile_model, uint64_t count, const double* albedo, double eta,
+                                   double* out);
 
 #ifdef __cplusplus
 }

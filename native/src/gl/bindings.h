@@ -37,7 +37,9 @@
   X(UNIT_FINE_DEPTH_RANGE, 18, GL_TEXTURE_2D)                 \
   X(UNIT_FINE_PROFILE_SPLIT, 19, GL_TEXTURE_2D)               \
   X(UNIT_FINE_POSITION_OBJECT, 20, GL_TEXTURE_2D)             \
-  X(UNIT_FINE_NORMAL_MATERIAL, 21, GL_TEXTURE_2D)
+  X(UNIT_FINE_NORMAL_MATERIAL, 21, GL_TEXTURE_2D)           \
+  X(UNIT_TRANSPORT_TABLES, 22, GL_TEXTURE_2D_ARRAY)         \
+  X(UNIT_IRRADIANCE_EXIT_DEPTH, 23, GL_TEXTURE_2D)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \
@@ -47,7 +49,8 @@
   X(IMAGE_COARSE_DEPTH_RANGE, 3)             \
   X(IMAGE_COARSE_PROFILE_SPLIT, 4)           \
   X(IMAGE_COARSE_POSITION_OBJECT, 5)         \
-  X(IMAGE_COARSE_NORMAL_MATERIAL, 6)
+  X(IMAGE_COARSE_NORMAL_MATERIAL, 6)         \
+  X(IMAGE_FLUX_FOOTPRINT, 7)
 
 // X(name, binding): indexed shader storage buffer bindings.
 #define SUBSPLAT_STORAGE_BINDINGS(X) \

@@ -1,4 +1,4 @@
-// The GLSL files of native/shaders/, embedded at build time (cmake/embed_shaders.cmake).
+// The GLSL files of native/shaders/, embedded at build time (cmake/embed_files.cmake).
 #pragma once
 #include <string>
 

@@ -1,5 +1,7 @@
 #include "material/profile_set.h"
 
+#include "material/transport_model.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -401,7 +403,8 @@ ProfileSet ProfileSet::fromTexels(int width, int height, int segments, double ra
 }
 
 ProfileSet ProfileSet::fromDipoles(int width, int height, const float* sigmaA, const float* sigmaSPrime, double eta,
-                                   double tolerance) {
+                                   double tolerance, int model) {
+  require(model == kProfileDipole || model == kProfileTabulated, "unknown profile model " + std::to_string(model));
   requireSize(width, height, 1, 1.0);
   require(sigmaA != nullptr && sigmaSPrime != nullptr, "dipole coefficients are NULL");
   require(std::isfinite(eta) && eta >= 1.0 && eta <= 3.0, "eta must be in [1, 3], got " + std::to_string(eta));
@@ -421,13 +424,14 @@ ProfileSet ProfileSet::fromDipoles(int width, int height, const float* sigmaA, c
   // One r_s for all: the longest 99.9 % radius. Segments: a quarter of the
   // shortest z_r, where the dipole bends (fitting then keeps what is needed).
   double radiusMm = 0.0, zr = std::numeric_limits<double>::infinity();
-  std::vector<std::array<Dipole, 3>> models;
+  std::vector<std::array<std::shared_ptr<const RadialProfile>, 3>> models;
   for (size_t i = 0; i < dipoles.size(); ++i) {
     const float* k = dipoles.knots.data() + 6 * i;
-    models.push_back({Dipole({k[0], k[3], eta}), Dipole({k[1], k[4], eta}), Dipole({k[2], k[5], eta})});
-    for (const Dipole& m : models.back()) {
-      radiusMm = std::max(radiusMm, m.radiusForEnergy(0.999));
-      zr = std::min(zr, m.realSourceDepth());
+    models.push_back({makeMediumProfile({k[0], k[3], eta}, model), makeMediumProfile({k[1], k[4], eta}, model),
+                      makeMediumProfile({k[2], k[5], eta}, model)});
+    for (const auto& m : models.back()) {
+      radiusMm = std::max(radiusMm, m->radiusForEnergy(0.999));
+      zr = std::min(zr, m->scaleHint());  // z_r = 1 / sigma_t' for either model
     }
   }
   radiusMm = double(float(radiusMm));  // as files and the API hold it
@@ -442,13 +446,13 @@ ProfileSet ProfileSet::fromDipoles(int width, int height, const float* sigmaA, c
   d.knots.resize(dipoles.size() * stride);
   for (size_t i = 0; i < dipoles.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const Dipole& m = models[i][size_t(c)];
+      const RadialProfile& m = *models[i][size_t(c)];
       float* out = d.knots.data() + i * stride + size_t(c);
       for (int k = 0; k <= segments; ++k)
         out[3 * k] = float(std::max(std::log(m.value(radiusMm * k / segments)), -1000.0));
-      // Keep the dipole's total diffuse reflectance (the tail beyond r_s is cut).
+      // Keep the model's total reflectance (the tail beyond r_s is cut).
       double kept = SegmentedProfile(out, segments, radiusMm, 3).totalEnergy();
-      double shift = kept > 0.0 ? std::log(m.totalReflectance() / kept) : 0.0;
+      double shift = kept > 0.0 ? std::log(m.totalEnergy() / kept) : 0.0;
       for (int k = 0; k <= segments; ++k) out[3 * k] = float(std::max(double(out[3 * k]) + shift, -1000.0));
     }
   return build(d, width, height, segments, radiusMm, tolerance);

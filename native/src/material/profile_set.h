@@ -75,10 +75,12 @@ class ProfileSet {
   // a texel beyond it is refused, named (SubEdit files: 1, light is not made).
   static ProfileSet fromTexels(int width, int height, int segments, double radiusMm, const float* logKnots,
                                double tolerance, double maxTotal = std::numeric_limits<double>::infinity());
-  // A homogeneous dipole per texel (sigma_a, sigma_s' per mm, RGB per texel),
-  // each profile scaled to keep the dipole's total diffuse reflectance.
+  // A homogeneous medium per texel (sigma_a, sigma_s' per mm, RGB per texel), its radial profile
+  // from `model` (material/transport_model.h: kProfileDipole, kProfileTabulated), each profile
+  // scaled to keep the model's total reflectance. (The TABULATED model's angular and thin-part
+  // factors are a homogeneous material's: a profile set keeps the radial profiles alone.)
   static ProfileSet fromDipoles(int width, int height, const float* sigmaA, const float* sigmaSPrime, double eta,
-                                double tolerance);
+                                double tolerance, int model = 0);
   // The model itself, as written to scene files: no fitting, only checks.
   static ProfileSet fromPalette(int segments, double radiusMm, std::vector<float> palette, int width, int height,
                                 std::vector<uint16_t> map, const ProfileSetInfo& info);

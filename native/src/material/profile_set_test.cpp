@@ -344,7 +344,7 @@ TEST(ProfileSetApi, ValidatesArgumentsAndHandles) {
 
   EXPECT_EQ(ssLoadProfileSet(nullptr, 0.0f, &set), SS_INVALID_ARGUMENT);
   float a[3] = {0.01f, 0.01f, -1.0f}, s[3] = {1, 1, 1};
-  EXPECT_EQ(ssNewProfileSetFromDipoles(1, 1, a, s, 1.3f, 0.0f, &set), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssNewProfileSetFromDipoles(1, 1, a, s, 1.3f, 0.0f, SS_PROFILE_DIPOLE, &set), SS_INVALID_ARGUMENT);
   EXPECT_NE(std::string(ssGetLastError()).find("sigma_a"), std::string::npos);
 }
 

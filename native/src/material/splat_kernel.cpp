@@ -6,6 +6,8 @@
 #include <list>
 #include <mutex>
 
+#include "material/transport_model.h"
+
 namespace subsplat {
 
 namespace {
@@ -17,7 +19,7 @@ bool sameDipole(const DipoleMaterial& a, const DipoleMaterial& b) {
     if (a.channels[c].sigmaA != b.channels[c].sigmaA || a.channels[c].sigmaSPrime != b.channels[c].sigmaSPrime ||
         a.channels[c].eta != b.channels[c].eta)
       return false;
-  return a.mmPerUnit == b.mmPerUnit;
+  return a.mmPerUnit == b.mmPerUnit && a.model == b.model;
 }
 
 }  // namespace
@@ -44,8 +46,8 @@ std::shared_ptr<const SplatKernel> SplatKernel::forDipole(const DipoleMaterial& 
 uint64_t SplatKernel::builtCount() { return kernelsBuilt.load(); }
 
 SplatKernel::SplatKernel(const DipoleMaterial& m)
-    : SplatKernel(Channels{std::make_shared<Dipole>(m.channels[0]), std::make_shared<Dipole>(m.channels[1]),
-                           std::make_shared<Dipole>(m.channels[2])},
+    : SplatKernel(Channels{makeMediumProfile(m.channels[0], m.model), makeMediumProfile(m.channels[1], m.model),
+                           makeMediumProfile(m.channels[2], m.model)},
                   m.mmPerUnit) {}
 
 SplatKernel::SplatKernel(Channels channels, double mmPerUnit) : channels_(std::move(channels)), mmPerUnit_(mmPerUnit) {

@@ -33,9 +33,12 @@
 
 namespace subsplat {
 
+// A homogeneous medium: its coefficients and the model its profile comes from
+// (material/transport_model.h: kProfileDipole, kProfileTabulated).
 struct DipoleMaterial {
   std::array<DipoleChannel, 3> channels;
   double mmPerUnit = 1000.0;
+  int model = 0;
 };
 
 class SplatKernel {
@@ -55,7 +58,7 @@ class SplatKernel {
   explicit SplatKernel(const DipoleMaterial& material);
   SplatKernel(Channels channels, double mmPerUnit);
 
-  // The kernel of a homogeneous dipole, shared by the whole process: a new context (Blender's UI
+  // The kernel of a homogeneous medium (either model), shared by the whole process: a new context (Blender's UI
   // makes one for each F12 render and one for each viewport) finds the tables of the dipoles it
   // had before instead of building them again (0.1-0.2 s each). The kDipoleCacheSize dipoles
   // asked for most recently stay built (0.4 MB each).

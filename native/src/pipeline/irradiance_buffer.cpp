@@ -13,8 +13,9 @@ void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
   // that the next call allocates again instead of one with mixed sizes.
   resolution_ = levels_ = 0;
   framebuffer_ = gl::Framebuffer();
+  exitFramebuffer_ = gl::Framebuffer();
   for (gl::Texture* t : {&positionMaterial_, &fluxFootprint_, &normalObject_, &lightDepth_, &depthRange_, &depth_,
-                         &profileSplit_})
+                         &profileSplit_, &exitDepth_, &exitZ_})
     t->reset();
   positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
@@ -63,6 +64,48 @@ void IrradianceBuffer::buildHierarchy() {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
   }
   gl::checkErrors("irradiance hierarchy");
+}
+
+void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, const LightView& view,
+                                      GLuint transportTables) {
+  if (!exitProgram_) {
+    exitProgram_ = gl::makeProgram("mesh.vert", "", "exit_depth.frag");
+    incidenceProgram_ = gl::makeComputeProgram("incidence.comp");
+  }
+  if (!exitFramebuffer_) {  // made on first use: scenes without TABULATED materials never pay for it
+    exitDepth_ = gl::makeTexture2D(GL_RGBA32F, resolution_, resolution_);
+    exitZ_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution_, resolution_);
+    exitFramebuffer_ = gl::makeFramebuffer({exitDepth_.id()}, exitZ_.id());
+  }
+  // Where the light leaves: the nearest surface facing away from it.
+  glBindFramebuffer(GL_FRAMEBUFFER, exitFramebuffer_.id());
+  glViewport(0, 0, resolution_, resolution_);
+  const float none[4] = {1e30f, -2.0f, 0.0f, 0.0f};
+  glClearBufferfv(GL_COLOR, 0, none);
+  glDepthMask(GL_TRUE);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  GLuint e = exitProgram_.id();
+  glUseProgram(e);
+  setLightUniforms(e, view);
+  drawMeshes(scene, gpu, e, view.viewProj);
+  glDisable(GL_DEPTH_TEST);
+  // The incidence factor on level 0.
+  GLuint p = incidenceProgram_.id();
+  glUseProgram(p);
+  setLightUniforms(p, view);
+  setTransportUniforms(p, transportTables);
+  glUniform1i(uniform(p, "resolution"), resolution_);
+  bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, positionMaterial_.id());
+  bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, normalObject_.id());
+  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, lightDepth_.id());
+  bindTexture(gl::UNIT_IRRADIANCE_EXIT_DEPTH, GL_TEXTURE_2D, exitDepth_.id());
+  glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  glBindImageTexture(gl::IMAGE_FLUX_FOOTPRINT, fluxFootprint_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glDispatchCompute(GLuint((resolution_ + 7) / 8), GLuint((resolution_ + 7) / 8), 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  gl::checkErrors("incidence factor");
 }
 
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {

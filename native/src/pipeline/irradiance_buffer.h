@@ -17,6 +17,10 @@ class IrradianceBuffer {
   // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
   void resize(int resolution, int levels = 1, bool profileSplits = false);
   void render(const Scene& scene, const GpuScene& gpu, const LightView& view);
+  // TABULATED materials (material/transport_model.h): renders where the light leaves each part
+  // (exitDepth) and scales the finest level's flux by the incidence factor R(tau, mu0) / R(1).
+  // Before buildHierarchy; transportTables: MaterialTables::transport().
+  void applyIncidence(const Scene& scene, const GpuScene& gpu, const LightView& view, GLuint transportTables);
   // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
   void buildHierarchy();
   int resolution() const { return resolution_; }
@@ -28,6 +32,10 @@ class IrradianceBuffer {
   GLuint fluxFootprint() const { return fluxFootprint_.id(); }
   GLuint normalObject() const { return normalObject_.id(); }
   GLuint lightDepth() const { return lightDepth_.id(); }
+  // r: light depth of the nearest surface facing away from the light, g: its object index, ba: its
+  // normal (octahedral)
+  // (applyIncidence; empty until it ran at this size).
+  GLuint exitDepth() const { return exitDepth_.id(); }
   // Every level, 0 unless resized with profileSplits: xyz the offset of the
   // second profile's part from the texel centre over the footprint sigma,
   // w = (its entry - the material's first) * 32 + its sixteenths of the texel.
@@ -37,9 +45,10 @@ class IrradianceBuffer {
  private:
   int resolution_ = 0, levels_ = 0;
   bool profileSplits_ = false;
-  gl::Program program_, reduceProgram_;
+  gl::Program program_, reduceProgram_, exitProgram_, incidenceProgram_;
   gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_, profileSplit_;
-  gl::Framebuffer framebuffer_;
+  gl::Texture exitDepth_, exitZ_;
+  gl::Framebuffer framebuffer_, exitFramebuffer_;
 };
 
 }  // namespace subsplat

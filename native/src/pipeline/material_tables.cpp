@@ -11,7 +11,7 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
   if (uploadedMaterialVersion_ == scene.materialVersion() && materialBuffer_ && uploadedEpsilon_ == epsilon) return;
   const auto& materials = scene.denseMaterials();
   std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
-  int layers = 0;
+  int layers = 0, transportLayers = 0;
   uint32_t mapOffset = 0;
   for (size_t i = 0; i < materials.size(); ++i) {
     const MaterialEntry& e = materials[i];
@@ -20,7 +20,9 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], isTranslucent(d) ? 1.0f : 0.0f},
                     {d.eta, d.roughness, d.specular, 0.0f},
                     {0, 0, 0, 0},
-                    {0, 0, 0, uint32_t(e.base)}};
+                    {0, 0, 0, uint32_t(e.base)},
+                    {0, 0, 0, -1.0f},
+                    {0, 0, 0, 0}};
     if (e.mapped()) {
       g.profileMap[0] = mapOffset;
       g.profileMap[1] = uint32_t(e.profiles->width());
@@ -35,6 +37,14 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
       g.ranges[2] = float(std::min({k.effectiveRange()[0], k.effectiveRange()[1], k.effectiveRange()[2]}));
       g.ranges[3] = d.mm_per_unit;
     }
+    if (e.transport) {
+      const TransportTables& t = *e.transport;
+      for (int c = 0; c < 3; ++c) {
+        g.medium[c] = float(t.albedo()[size_t(c)]);
+        g.extinction[c] = float(t.extinction()[size_t(c)] * d.mm_per_unit);
+      }
+      g.medium[3] = float(transportLayers++);
+    }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
   kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
@@ -43,6 +53,13 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     if (!materials[i].kernel) continue;
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].optics[3]), SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
                     GL_RGBA, GL_FLOAT, materials[i].kernel->table().data());
+  }
+  transport_ = gl::makeTexture2DArray(GL_RGBA32F, TransportTables::kWidth, TransportTables::height(),
+                                      std::max(transportLayers, 1), GL_NEAREST);
+  for (size_t i = 0; i < materials.size(); ++i) {
+    if (!materials[i].transport) continue;
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].medium[3]), TransportTables::kWidth,
+                    TransportTables::height(), 1, GL_RGBA, GL_FLOAT, materials[i].transport->texels().data());
   }
   // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change:
   // over the mean normalised profile of the material's entries (eq. 15, 16),

@@ -16,6 +16,8 @@ struct MaterialGpu {
   float optics[4];
   float ranges[4];
   uint32_t profileMap[4];
+  float medium[4];      // TABULATED: rgb single-scattering albedo, w: transport layer (-1: none)
+  float extinction[4];  // TABULATED: rgb sigma_t per scene unit
 };
 
 // The per-material tables the splat shaders read.
@@ -23,6 +25,7 @@ struct KernelTables {
   GLuint kernels = 0;        // 2D array: SplatKernel::table() per translucent material entry
   GLuint minimalRadius = 0;  // 2D: R-bar over log2 T, one row per layer
   int layers = 1;
+  GLuint transport = 0;      // 2D array: TransportTables::texels() per TABULATED entry (at least one layer)
 };
 
 class MaterialTables {
@@ -32,11 +35,12 @@ class MaterialTables {
   void update(const Scene& scene, float epsilon);
   // Shader storage: one MaterialGpu per dense entry.
   GLuint materials() const { return materialBuffer_.id(); }
-  KernelTables kernels() const { return {kernelTable_.id(), minimalRadius_.id(), kernelLayers_}; }
+  KernelTables kernels() const { return {kernelTable_.id(), minimalRadius_.id(), kernelLayers_, transport_.id()}; }
+  GLuint transport() const { return transport_.id(); }
 
  private:
   gl::Buffer materialBuffer_;
-  gl::Texture kernelTable_, minimalRadius_;
+  gl::Texture kernelTable_, minimalRadius_, transport_;
   int kernelLayers_ = 1;
   float uploadedEpsilon_ = -1.0f;
   uint64_t uploadedMaterialVersion_ = ~0ull;

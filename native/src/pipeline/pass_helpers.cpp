@@ -1,5 +1,7 @@
 #include "pipeline/pass_helpers.h"
 
+#include "material/transport_model.h"
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
@@ -53,6 +55,13 @@ void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
   glUniform3fv(uniform(program, "cameraPosition"), 1, glm::value_ptr(position));
   glUniform3fv(uniform(program, "cameraForward"), 1, glm::value_ptr(forward));
   glUniform1i(uniform(program, "orthographic"), camera.orthographic);
+}
+
+void setTransportUniforms(GLuint program, GLuint transportTables) {
+  bindTexture(gl::UNIT_TRANSPORT_TABLES, GL_TEXTURE_2D_ARRAY, transportTables);
+  glUniform3f(uniform(program, "transportGrid"), float(TransportTables::firstSlab()),
+              float(TransportTables::thicknessLogStep()), float(TransportTables::thickestSlab()));
+  glUniform1i(uniform(program, "transportThicknesses"), TransportTables::thicknessCount());
 }
 
 }  // namespace subsplat

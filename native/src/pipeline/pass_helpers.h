@@ -23,5 +23,8 @@ void bindTexture(int unit, GLenum target, GLuint texture);
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj);
 // cameraPosition, cameraForward and orthographic as uniforms.
 void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
+// The TABULATED model's tables (common.glsl: transportTables, transportGrid) for a program that
+// reads them.
+void setTransportUniforms(GLuint program, GLuint transportTables);
 
 }  // namespace subsplat

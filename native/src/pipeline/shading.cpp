@@ -28,8 +28,8 @@ void Shading::clear() {
   glClearBufferfv(GL_COLOR, 0, zero);
 }
 
-void Shading::directLighting(const Scene& scene, const LightView& view,
-                             const IrradianceBuffer& irradiance, const SplattingBuffer& splatting) {
+void Shading::directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                             const SplattingBuffer& splatting, GLuint transportTables) {
   glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   glEnable(GL_BLEND);
@@ -45,6 +45,12 @@ void Shading::directLighting(const Scene& scene, const LightView& view,
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
+  glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
+  if (scene.tabulated()) {
+    bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, irradiance.positionMaterial());
+    bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, irradiance.normalObject());
+    setTransportUniforms(p, transportTables);
+  }
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -52,7 +58,7 @@ void Shading::directLighting(const Scene& scene, const LightView& view,
 }
 
 void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
-                           const float background[4]) {
+                           GLuint transportTables, const float background[4]) {
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   GLuint p = finalProgram_.id();
@@ -63,6 +69,7 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
   bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
+  setTransportUniforms(p, transportTables);
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

@@ -15,11 +15,14 @@ class Shading {
  public:
   void resize(int width, int height);
   void clear();
-  // Direct light of one light view (diffuse, specular, shadows).
+  // Direct light of one light view (diffuse, specular, shadows) and, for TABULATED materials, the
+  // light it sends through thin parts (material/transport_model.h); transportTables:
+  // MaterialTables::transport().
   void directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
-                      const SplattingBuffer& splatting);
-  // Eq. 7 and the background into `target` (RGBA32F, width x height).
-  void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
+                      const SplattingBuffer& splatting, GLuint transportTables);
+  // Eq. 7 (with the TABULATED model's exit factor) and the background into `target` (RGBA32F,
+  // width x height).
+  void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
                     const float background[4]);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 

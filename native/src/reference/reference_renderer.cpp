@@ -10,6 +10,7 @@
 
 #include "material/dipole.h"
 #include "material/profile_set.h"
+#include "material/transport_model.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
 #include "util/camera.h"
@@ -30,6 +31,8 @@ struct Profile {
   bool translucent = false;
   double scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
+  std::vector<std::shared_ptr<const RadialProfile>> tabulated;  // TABULATED: per channel, in mm
+  const TransportTables* transport = nullptr;                    // TABULATED
   double mmPerUnit = 1.0;
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
@@ -50,6 +53,19 @@ struct Profile {
     }
     if (!translucent) return;
     minZr = std::numeric_limits<double>::infinity();
+    if (e.transport) {  // the TABULATED model (material/transport_model.h)
+      transport = e.transport.get();
+      for (int c = 0; c < 3; ++c) {
+        DipoleChannel channel{d.sigma_a[c], d.sigma_s_prime[c], d.eta};
+        tabulated.push_back(makeMediumProfile(channel, kProfileTabulated));
+        support = std::max(support, tabulated.back()->radiusForEnergy(ReferenceRenderer::kSupportEnergy) / mmPerUnit);
+        // The once-scattered peak bends within a fraction of a mean free path: near x_o cells are
+        // cut to kFinestCell of a twentieth of one (a plane then converges within 0.3 % of the
+        // closed form, tests/blender/test_plane.py).
+        minZr = std::min(minZr, 0.05 / mediumExtinction(channel) / mmPerUnit);
+      }
+      return;
+    }
     for (int c = 0; c < 3; ++c) {
       Dipole dipole({d.sigma_a[c], d.sigma_s_prime[c], d.eta});
       double unit = d.mm_per_unit;  // mm per scene unit
@@ -62,11 +78,31 @@ struct Profile {
     }
   }
 
-  // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.h).
-  void evaluate(double r2, double out[3]) const {
+  // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.h), for a cell of `area`
+  // (unit^2) at squared distance r2. The TABULATED profile has the once-scattered light's 1 / r
+  // peak at r = 0, which a value at the cell's centroid misses by more than the cells' refinement
+  // catches where the mean free path is below a cell: a cell of radius h = sqrt(area / pi) takes P's
+  // mean over the disk of radius h around x_o when nearer than h, else over the ring from r - h to
+  // r + h (exact where P is linear in r, and energy-true at the peak).
+  void evaluate(double r2, double out[3], double area = 0.0) const {
+    if (!tabulated.empty() && area > 0.0) {
+      double h = std::sqrt(area / M_PI) * mmPerUnit, r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
+      double lo = std::max(r - h, 0.0), hi = r + h;
+      if (r < h) lo = 0.0, hi = h;
+      for (int c = 0; c < 3; ++c) {
+        const RadialProfile& p = *tabulated[size_t(c)];
+        out[c] = (p.energyWithin(hi) - p.energyWithin(lo)) / (M_PI * (hi * hi - lo * lo)) * perUnit2;
+      }
+      return;
+    }
     if (!segmented.empty()) {
       double r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
       for (int c = 0; c < 3; ++c) out[c] = segmented[size_t(c)].value(r) * perUnit2;
+      return;
+    }
+    if (!tabulated.empty()) {
+      double r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
+      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->value(r) * perUnit2;
       return;
     }
     for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(r2, zr[c], zv[c], sigmaTr[c], scale[c]);
@@ -79,11 +115,11 @@ struct ProfilePair {
   const Profile* out;
   double finestCell;
 
-  void evaluate(double r2, double k[3]) const {
-    in->evaluate(r2, k);
+  void evaluate(double r2, double k[3], double area = 0.0) const {
+    in->evaluate(r2, k, area);
     if (in == out) return;
     double o[3];
-    out->evaluate(r2, o);
+    out->evaluate(r2, o, area);
     for (int c = 0; c < 3; ++c) k[c] = std::sqrt(k[c] * o[c]);
   }
 };
@@ -92,7 +128,9 @@ struct SurfaceSample {
   glm::vec3 position;   // the cell's centroid
   glm::vec3 corners[3];
   glm::vec2 uvs[3];     // the corners' texture coordinates: refined parts look up their own profile
-  glm::vec3 flux;       // E dA, W
+  glm::vec3 flux;       // E dA, W (TABULATED: times the incidence factor)
+  glm::vec3 fluxMu0;    // TABULATED: the flux of each light times its incidence cosine, summed
+  glm::vec3 normal;     // TABULATED: the shading normal, facing the (first) light
   float diameter;       // longest edge of the cell
   uint32_t material;    // the entry at the centroid
   uint32_t base;        // the material's first entry
@@ -153,8 +191,10 @@ struct ObjectSamples {
 
 // Flux of one cell, refined into four while it is large against its distance
 // to x_o (its irradiance stays the sample's; each part has its own profile).
+// sum: B(x_o) in rgb; alpha: the TABULATED model's exitance-weighted incidence cosine (fluxMu0).
 void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&uv)[3], const glm::dvec3& flux,
-             ProfilePair pair, const CellProfiles& cell, int depth, glm::dvec3& sum, uint64_t& evaluations) {
+             const glm::dvec3& fluxMu0, ProfilePair pair, const CellProfiles& cell, int depth, glm::dvec4& sum,
+             uint64_t& evaluations) {
   glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
   glm::dvec3 offset = xo - centroid;
   double r2 = glm::dot(offset, offset);
@@ -164,24 +204,27 @@ void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&
   if (depth < ReferenceRenderer::kMaxDepth && diameter > limit && diameter > pair.finestCell) {
     const glm::dvec3 pm[3] = {0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0])};
     const glm::dvec2 um[3] = {0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
-    const glm::dvec3 quarter = 0.25 * flux;
+    const glm::dvec3 quarter = 0.25 * flux, quarterMu0 = 0.25 * fluxMu0;
     const glm::dvec3 parts[4][3] = {{p[0], pm[0], pm[2]}, {pm[0], p[1], pm[1]}, {pm[2], pm[1], p[2]}, {pm[0], pm[1], pm[2]}};
     const glm::dvec2 partUvs[4][3] = {{uv[0], um[0], um[2]}, {um[0], uv[1], um[1]}, {um[2], um[1], uv[2]}, {um[0], um[1], um[2]}};
-    for (int i = 0; i < 4; ++i) addCell(xo, parts[i], partUvs[i], quarter, pair, cell, depth + 1, sum, evaluations);
+    for (int i = 0; i < 4; ++i)
+      addCell(xo, parts[i], partUvs[i], quarter, quarterMu0, pair, cell, depth + 1, sum, evaluations);
     return;
   }
   if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
   double k[3];
-  pair.evaluate(r2, k);
+  pair.evaluate(r2, k, 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
   ++evaluations;
-  sum += glm::dvec3(k[0], k[1], k[2]) * flux;
+  glm::dvec3 kernel(k[0], k[1], k[2]);
+  sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
 }
 
-// B(x_o): every sample of the object within the support (eq. 5).
-glm::dvec3 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const Profile& outProfile,
+// B(x_o): every sample of the object within the support (eq. 5); alpha as addCell's. no: the
+// normal at x_o (facing the camera), for the TABULATED model's side weight.
+glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const glm::vec3& no, const Profile& outProfile,
                       const std::vector<MaterialEntry>& entries, const std::vector<Profile>& profiles,
                       uint64_t& evaluations) {
-  glm::dvec3 sum(0.0);
+  glm::dvec4 sum(0.0);
   double support = object.support;
   double support2 = support * support;
   glm::ivec3 lo = object.cellCoord(xo - glm::vec3(float(support)));
@@ -198,18 +241,22 @@ glm::dvec3 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const Pr
           if (r2 >= support2) continue;
           const Profile& in = profiles[s.material];
           ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
+          double side = in.transport ? sideWeight(double(glm::dot(s.normal, no))) : 1.0;
+          if (side <= 0.0) continue;
+          glm::dvec3 flux = side * glm::dvec3(s.flux), fluxMu0 = side * glm::dvec3(s.fluxMu0);
           double diameter = s.diameter;
           if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(r2) && diameter > pair.finestCell) {
             const glm::dvec3 corners[3] = {s.corners[0], s.corners[1], s.corners[2]};
             const glm::dvec2 uvs[3] = {s.uvs[0], s.uvs[1], s.uvs[2]};
             CellProfiles cell{&entries, &profiles, s.base, s.mapped};
-            addCell(x, corners, uvs, s.flux, pair, cell, 0, sum, evaluations);
+            addCell(x, corners, uvs, flux, fluxMu0, pair, cell, 0, sum, evaluations);
             continue;
           }
           double k[3];
-          pair.evaluate(r2, k);
+          pair.evaluate(r2, k, 0.5 * double(glm::length(glm::cross(s.corners[1] - s.corners[0], s.corners[2] - s.corners[0]))));
           ++evaluations;
-          sum += glm::dvec3(k[0], k[1], k[2]) * glm::dvec3(s.flux);
+          glm::dvec3 kernel(k[0], k[1], k[2]);
+          sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
         }
       }
   return sum;
@@ -231,6 +278,63 @@ bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, cons
   float far = std::isinf(light.distance) ? std::numeric_limits<float>::infinity()
                                          : std::max(light.distance - 2.0f * eps, 0.0f);
   return !rays.occluded(origin, light.towardsLight, 0.0f, far);
+}
+
+// TABULATED model: how far the light travels inside the object it entered at p before it leaves,
+// as the GPU's exit-depth pass finds it (exit_depth.frag): the nearest surface facing away from
+// the light along its ray beyond p, and its normal (*exitNormal); infinite (a half-space) when that
+// surface is another object's, or there is none.
+double exitDistance(const RayScene& rays, int mesh, const glm::vec3& p, const glm::vec3& ng,
+                    const glm::vec3& towardsLight, glm::vec3* exitNormal) {
+  glm::vec3 direction = -towardsLight;
+  float eps = rays.epsilon();
+  glm::vec3 origin = offsetOrigin(p, ng, direction, eps);
+  double travelled = double(glm::length(origin - p));
+  for (int step = 0; step < 64; ++step) {
+    Hit hit = rays.intersect(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
+    if (!hit.valid()) break;
+    travelled += hit.distance;
+    const WorldMesh& m = rays.meshes()[size_t(hit.mesh)];
+    glm::uvec3 t = m.triangle(hit.triangle);
+    glm::vec3 n = interpolate(m.normals, t, {1.0f - hit.u - hit.v, hit.u, hit.v});
+    if (glm::dot(n, towardsLight) < 0.0f) {
+      *exitNormal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : n;
+      return hit.mesh == mesh ? travelled : std::numeric_limits<double>::infinity();
+    }
+    origin += direction * (hit.distance + eps);  // an entry: the exit pass does not see it
+    travelled += eps;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+// TABULATED model: the light that entered where `light` first meets the object of pixel point p
+// and crossed the part to reach p (direct_lighting.frag: transmitted); n faces the camera.
+glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const glm::vec3& n, const glm::vec3& view,
+                      const SsLightDesc& light, const Profile& profile, float sceneSize) {
+  LightSample ls = sampleLight(light, p);
+  if (ls.irradiance == glm::vec3(0.0f)) return glm::vec3(0.0f);
+  float far = std::isinf(ls.distance) ? sceneSize : ls.distance;
+  glm::vec3 origin = p + ls.towardsLight * far;
+  Hit hit = rays.intersect(origin, -ls.towardsLight, 0.0f, far);
+  if (!hit.valid() || hit.mesh != mesh) return glm::vec3(0.0f);
+  double thickness = std::max(double(far) - double(hit.distance), 0.0);
+  const WorldMesh& m = rays.meshes()[size_t(hit.mesh)];
+  glm::uvec3 t = m.triangle(hit.triangle);
+  glm::vec3 xe = interpolate(m.positions, t, {1.0f - hit.u - hit.v, hit.u, hit.v});
+  glm::vec3 ne = glm::normalize(interpolate(m.normals, t, {1.0f - hit.u - hit.v, hit.u, hit.v}));
+  LightSample entry = sampleLight(light, xe);
+  if (glm::dot(ne, entry.towardsLight) < 0.0f) ne = -ne;  // two-sided, as the irradiance buffer
+  double mu0 = std::clamp(double(glm::dot(ne, entry.towardsLight)), 0.0, 1.0);
+  double mu = std::clamp(double(glm::dot(n, view)), 0.0, 1.0);
+  thickness *= mu0;  // the slab's thickness along the entry's normal
+  double scale = fresnelTransmittance(profile.eta, mu0) * mu0 * fresnelTransmittance(profile.eta, mu) *
+                 slabLikeness(double(glm::dot(ne, n)));
+  glm::vec3 out(0.0f);
+  for (int c = 0; c < 3; ++c) {
+    double tau = thickness * profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
+    out[c] = float(entry.irradiance[c] * scale * profile.transport->transmitted(c, tau, mu0, mu));
+  }
+  return out;
 }
 
 struct TriangleCells {
@@ -331,7 +435,9 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         }
         glm::vec3 ns = interpolate(m.normals, tri, {1.0f - centre.x - centre.y, centre.x, centre.y});
         ns = glm::dot(ns, ns) > 0.0f ? glm::normalize(ns) : ng;
-        glm::vec3 flux(0.0f);
+        glm::vec3 flux(0.0f), fluxMu0(0.0f);
+        s.normal = ns;
+        bool facing = false;
         for (const SsLightDesc& light : lights) {
           LightSample ls = sampleLight(light, s.position);
           float cosGeometric = std::abs(glm::dot(ng, ls.towardsLight));
@@ -339,9 +445,27 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
           float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
           float ft = float(fresnelTransmittance(profile.eta, cosShading));
           if (ft <= 0.0f || !visible(rays, s.position, ng, ls)) continue;
-          flux += ls.irradiance * (cosGeometric * ft * area);
+          glm::vec3 lightFlux = ls.irradiance * (cosGeometric * ft * area);
+          if (profile.transport) {  // the incidence factor, for the thickness the light crosses here
+            if (!facing) s.normal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns, facing = true;
+            // The slab's thickness along its normal (the light crossed it at cosShading), and how
+            // slab-like the part is between entry and exit (transport_model.h: slabLikeness).
+            glm::vec3 exitNormal(0.0f);
+            double thickness = exitDistance(rays, int(tc.mesh), s.position, ng, ls.towardsLight, &exitNormal) * cosShading;
+            glm::vec3 entryNormal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns;
+            double slab = std::isinf(thickness) ? 0.0 : slabLikeness(double(glm::dot(entryNormal, exitNormal)));
+            for (int c = 0; c < 3; ++c) {
+              double tau = thickness * profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
+              double halfSpace = profile.transport->incidence(c, double(INFINITY), cosShading);
+              double slabFactor = slab > 0.0 ? profile.transport->incidence(c, tau, cosShading) : halfSpace;
+              lightFlux[c] *= float(slab * slabFactor + (1.0 - slab) * halfSpace);
+            }
+            fluxMu0 += lightFlux * cosShading;
+          }
+          flux += lightFlux;
         }
         s.flux = flux;
+        s.fluxMu0 = fluxMu0;
       };
       for (uint32_t i = 0; i < tc.cuts; ++i)
         for (uint32_t j = 0; i + j < tc.cuts; ++j) {
@@ -359,6 +483,8 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   const SsCameraDesc& camera = scene.camera();
   glm::mat4 clipToWorld = glm::inverse(glm::make_mat4(camera.view_to_clip) * glm::make_mat4(camera.world_to_view));
   glm::vec3 cameraPos = cameraPosition(camera), forward = cameraForward(camera);
+  float sceneSize = 4.0f * std::max(scene.bounds(false).radius(), 1e-6f) +
+                    glm::length(scene.bounds(false).center()) + 1.0f;  // past the scene from any point in it
   exitance_.assign(size_t(width) * height * 4, 0.0f);
   std::atomic<uint64_t> evaluationsTotal{0};
   parallelFor(size_t(height), 1, [&](size_t begin, size_t end) {
@@ -398,11 +524,22 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
           color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
         }
         if (profile.translucent) {
-          glm::dvec3 b = objects[size_t(hit.mesh)].samples.empty()
-                             ? glm::dvec3(0.0)
-                             : exitanceAt(objects[size_t(hit.mesh)], p, profile, entries, profiles, evaluations);
-          float ft = float(fresnelTransmittance(profile.eta, glm::dot(n, view)));
-          color += glm::vec3(b) * (ft / float(M_PI));
+          glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
+                             ? glm::dvec4(0.0)
+                             : exitanceAt(objects[size_t(hit.mesh)], p, n, profile, entries, profiles, evaluations);
+          float mu = glm::dot(n, view);
+          float ft = float(fresnelTransmittance(profile.eta, mu));
+          glm::dvec3 exitFactor(1.0);
+          double sum = b.x + b.y + b.z;
+          if (profile.transport && sum > 0.0)
+            for (int c = 0; c < 3; ++c) exitFactor[c] = profile.transport->exit(c, b.w / sum, mu);
+          color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI));
+          if (profile.transport)
+            for (const SsLightDesc& light : lights) {
+              LightSample ls = sampleLight(light, p);
+              if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
+              color += throughPart(rays, hit.mesh, p, n, view, light, profile, sceneSize);
+            }
           float* e = exitance_.data() + 4 * pixel;
           e[0] = float(b.x), e[1] = float(b.y), e[2] = float(b.z), e[3] = 1.0f;
         }

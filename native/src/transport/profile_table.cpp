@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "transport/table_text.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -16,18 +17,9 @@ namespace {
 const char kMagic[] = "subsplat-transport-table";
 const int kVersion = 1;
 
-// 17 significant digits, as printf's %.17g in the C locale whatever the host's locale is
-// (std::to_chars), so that the text reads back exactly and is the same bytes everywhere.
-std::string real(double x) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  char buffer[64];
-  auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
-  return std::string(buffer, result.ptr);
-}
-
 void writeList(std::ostringstream& out, const char* name, const std::vector<double>& v) {
   out << name << ' ' << v.size();
-  for (double x : v) out << ' ' << real(x);
+  for (double x : v) out << ' ' << formatReal(x);
   out << '\n';
 }
 
@@ -36,59 +28,6 @@ void writeCounts(std::ostringstream& out, const char* name, const std::vector<ui
   for (uint64_t c : v) out << ' ' << c;
   out << '\n';
 }
-
-// A reader of whitespace-separated tokens that fails with the file's own words.
-class Tokens {
- public:
-  explicit Tokens(const std::string& text) : in_(text) {}
-  std::string word() {
-    std::string w;
-    if (!(in_ >> w)) fail(SS_INVALID_ARGUMENT, "transport table: ends early");
-    return w;
-  }
-  void expect(const std::string& w) {
-    std::string got = word();
-    if (got != w) fail(SS_INVALID_ARGUMENT, "transport table: expected '" + w + "', got '" + got + "'");
-  }
-  double real() {
-    std::string w = word();
-    if (w == "inf") return std::numeric_limits<double>::infinity();
-    double x = 0.0;
-    auto result = std::from_chars(w.data(), w.data() + w.size(), x);  // the C locale's format
-    if (result.ec != std::errc() || result.ptr != w.data() + w.size() || !std::isfinite(x))
-      fail(SS_INVALID_ARGUMENT, "transport table: bad number '" + w + "'");
-    return x;
-  }
-  uint64_t count() {
-    std::string w = word();
-    char* end = nullptr;
-    if (w.empty() || w[0] == '-') fail(SS_INVALID_ARGUMENT, "transport table: bad count '" + w + "'");
-    uint64_t c = std::strtoull(w.c_str(), &end, 10);
-    if (*end != '\0') fail(SS_INVALID_ARGUMENT, "transport table: bad count '" + w + "'");
-    return c;
-  }
-  std::vector<double> list(const std::string& name, size_t most = 100000) {
-    expect(name);
-    uint64_t n = count();
-    require(n <= most, "transport table: too many " + name);
-    std::vector<double> v(n);
-    for (double& x : v) x = real();
-    return v;
-  }
-  std::vector<uint64_t> counts(const std::string& name, size_t n) {
-    expect(name);
-    std::vector<uint64_t> v(n);
-    for (uint64_t& c : v) c = count();
-    return v;
-  }
-  bool done() {
-    std::string w;
-    return !(in_ >> w);
-  }
-
- private:
-  std::istringstream in_;
-};
 
 }  // namespace
 
@@ -104,6 +43,16 @@ ProfileTableSpec defaultProfileTableSpec() {
   spec.albedos = {0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.95, 0.97, 0.98, 0.99, 0.995, 0.998, 0.999};
   spec.thicknesses = {std::numeric_limits<double>::infinity(), 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
   spec.radiusEdges = geometricRadiusEdges(0.01, 200.0, 48);
+  spec.paths = 1000000;
+  return spec;
+}
+
+ProfileTableSpec halfSpaceProfileTableSpec() {
+  ProfileTableSpec spec;
+  spec.albedos = {0.05,  0.1,   0.2,   0.3,   0.4,   0.5,   0.6,    0.7,    0.8,    0.85,   0.9,    0.925, 0.95,
+                  0.965, 0.975, 0.985, 0.99,  0.993, 0.995, 0.997, 0.998, 0.999, 0.9995, 0.9998, 0.9999};
+  spec.thicknesses = {std::numeric_limits<double>::infinity()};
+  spec.radiusEdges = geometricRadiusEdges(0.005, 3000.0, 64);
   spec.paths = 1000000;
   return spec;
 }
@@ -151,14 +100,14 @@ std::string writeProfileTable(const ProfileTable& table) {
          "# the same per exit-cosine bin (uniform in mu). A count c is the fraction collided * c / paths of\n"
          "# the incident power; the mean exitance over a radial bin [r0, r1] is that over pi (r1^2 - r0^2),\n"
          "# the mean radiance over a cosine bin [m0, m1] per unit irradiance that over pi (m1^2 - m0^2).\n";
-  out << "mu0 " << real(spec.mu0) << '\n' << "paths " << spec.paths << '\n' << "seed " << spec.seed << '\n';
+  out << "mu0 " << formatReal(spec.mu0) << '\n' << "paths " << spec.paths << '\n' << "seed " << spec.seed << '\n';
   writeList(out, "albedos", spec.albedos);
   writeList(out, "thicknesses", spec.thicknesses);
   writeList(out, "radius-edges", spec.radiusEdges);
   out << "cosine-bins " << spec.cosineBins << '\n';
   for (const SlabTallies& t : table.entries) {
-    out << "entry " << real(t.settings.albedo) << ' ' << real(t.settings.thickness) << " unscattered " << real(t.unscattered)
-        << " collided " << real(t.collided) << " reflected " << t.reflected << " transmitted " << t.transmitted << " absorbed "
+    out << "entry " << formatReal(t.settings.albedo) << ' ' << formatReal(t.settings.thickness) << " unscattered " << formatReal(t.unscattered)
+        << " collided " << formatReal(t.collided) << " reflected " << t.reflected << " transmitted " << t.transmitted << " absorbed "
         << t.absorbed << " truncated " << t.truncated << " reflected-once " << t.reflectedOnce << " transmitted-once "
         << t.transmittedOnce << '\n';
     writeCounts(out, "reflected-by-radius", t.reflectedByRadius);
@@ -171,12 +120,8 @@ std::string writeProfileTable(const ProfileTable& table) {
 }
 
 ProfileTable readProfileTable(const std::string& text) {
-  // Comments: lines that start with '#'.
-  std::istringstream lines(text);
-  std::string line, body;
-  while (std::getline(lines, line))
-    if (line.empty() || line[0] != '#') body += line + '\n';
-  Tokens in(body);
+  TableWords in(text, "transport table");
+  in.allowInfinity = true;  // the half-space's thickness
   in.expect(kMagic);
   if (in.count() != static_cast<uint64_t>(kVersion)) fail(SS_INVALID_ARGUMENT, "transport table: unknown version");
   in.expect("mu0");

@@ -30,6 +30,11 @@ struct ProfileTableSpec {
 // What the build makes: 18 albedos from 0.05 to 0.999, thicknesses 1/8 to 16 and the half-space,
 // 48 radial bins from 0.01 to 200 (geometric, and [0, 0.01]), 1e6 paths each.
 ProfileTableSpec defaultProfileTableSpec();
+// What the renderer's TABULATED profile model reads (material/tabulated_profile.h): the half-space
+// alone, 25 albedos from 0.05 to 0.9999 (dense towards 1, where the profile's tail grows), 64 radial
+// bins from 0.005 to 3000 mean free paths (geometric, and [0, 0.005]), 1e6 paths each. Committed as
+// native/src/transport/data/half_space_profiles.txt and embedded into the library.
+ProfileTableSpec halfSpaceProfileTableSpec();
 // What the test regenerates: 3 albedos, 2 thicknesses, 12 bins, 20000 paths.
 ProfileTableSpec smallProfileTableSpec();
 
