@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 11  # SS_API_VERSION of subsplat.h
+API_VERSION = 12  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -19,6 +19,7 @@ SS_CANCELLED = 7
 SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL, SS_METHOD_REFERENCE = 0, 1, 2, 3, 4
 SS_LIGHT_POINT, SS_LIGHT_SPOT, SS_LIGHT_SUN = 0, 1, 2
 SS_MATERIAL_OPAQUE, SS_MATERIAL_DIPOLE, SS_MATERIAL_SUBEDIT = 0, 1, 2
+SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED = 0, 1
 SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
 
 # The plain data's names (export.data) for them.
@@ -26,6 +27,7 @@ METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE":
            "FULL": SS_METHOD_FULL, "REFERENCE": SS_METHOD_REFERENCE}
 LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_SUN}
 MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "SUBEDIT": SS_MATERIAL_SUBEDIT}
+PROFILE_MODELS = {"DIPOLE": SS_PROFILE_DIPOLE, "TABULATED": SS_PROFILE_TABULATED}
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
            5: "limit exceeded", 6: "internal error", 7: "cancelled"}
@@ -72,7 +74,8 @@ class ResourceCounts(ctypes.Structure):
 class MaterialDesc(ctypes.Structure):
     _fields_ = [("kind", ctypes.c_int32), ("base_color", Float3), ("sigma_a", Float3),
                 ("sigma_s_prime", Float3), ("eta", ctypes.c_float), ("mm_per_unit", ctypes.c_float),
-                ("roughness", ctypes.c_float), ("specular", ctypes.c_float), ("profiles", ctypes.c_void_p)]
+                ("roughness", ctypes.c_float), ("specular", ctypes.c_float), ("profile_model", ctypes.c_int32),
+                ("profiles", ctypes.c_void_p)]
 
 
 class ProfileSetDesc(ctypes.Structure):
@@ -224,11 +227,13 @@ def _declare(lib):
         "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
         "ssDipoleTotalReflectance": [ctypes.c_uint64, ctypes.POINTER(ctypes.c_double), ctypes.c_double,
                                      ctypes.POINTER(ctypes.c_double)],
+        "ssTotalReflectance": [ctypes.c_int32, ctypes.c_uint64, ctypes.POINTER(ctypes.c_double), ctypes.c_double,
+                               ctypes.POINTER(ctypes.c_double)],
         "ssSaveScene": [handle, ctypes.c_char_p],
         "ssNewProfileSet": [ctypes.POINTER(ProfileSetDesc), ctypes.c_float, ctypes.POINTER(handle)],
         "ssNewProfileSetFromDipoles": [ctypes.c_uint32, ctypes.c_uint32, ctypes.POINTER(ctypes.c_float),
                                        ctypes.POINTER(ctypes.c_float), ctypes.c_float, ctypes.c_float,
-                                       ctypes.POINTER(handle)],
+                                       ctypes.c_int32, ctypes.POINTER(handle)],
         "ssLoadProfileSet": [ctypes.c_char_p, ctypes.c_float, ctypes.POINTER(handle)],
         "ssSaveProfileSet": [handle, ctypes.c_char_p],
         "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
@@ -304,6 +309,18 @@ def dipole_total_reflectance(reduced_albedo, eta):
     return out
 
 
+def total_reflectance(profile_model, albedo, eta):
+    """What a homogeneous medium of each single-scattering albedo (an array of any shape) reflects of
+    a normal beam under the profile model ("DIPOLE", "TABULATED"), by the library
+    (ssTotalReflectance); no GL needed."""
+    albedo = np.ascontiguousarray(albedo, dtype=np.float64)
+    out = np.empty_like(albedo)
+    doubles = ctypes.POINTER(ctypes.c_double)
+    _check(library().ssTotalReflectance(PROFILE_MODELS[profile_model], albedo.size, albedo.ctypes.data_as(doubles),
+                                        float(eta), out.ctypes.data_as(doubles)))
+    return out
+
+
 def profile_info(material):
     """Rd_total, R_P and support radius of a translucent Material (export.data); no GL needed."""
     info = ProfileInfo()
@@ -323,6 +340,7 @@ def _material_desc(material):
     desc.mm_per_unit = material.mm_per_unit
     desc.roughness = material.roughness
     desc.specular = material.specular
+    desc.profile_model = PROFILE_MODELS[material.profile_model]
     if material.profiles is not None:
         desc.profiles = material.profiles.handle
     return desc
@@ -383,8 +401,9 @@ class ProfileSet:
         return cls(handle)
 
     @classmethod
-    def from_dipoles(cls, sigma_a, sigma_s_prime, eta, tolerance=0.0):
-        """sigma_a, sigma_s_prime: per mm, shape (height, width, 3), row 0 at v = 0."""
+    def from_dipoles(cls, sigma_a, sigma_s_prime, eta, tolerance=0.0, profile_model="DIPOLE"):
+        """sigma_a, sigma_s_prime: per mm, shape (height, width, 3), row 0 at v = 0; each texel's
+        radial profile from profile_model ("DIPOLE", "TABULATED")."""
         sigma_a = np.ascontiguousarray(sigma_a, dtype=np.float32)
         sigma_s_prime = np.ascontiguousarray(sigma_s_prime, dtype=np.float32)
         if sigma_a.ndim != 3 or sigma_a.shape[2] != 3 or sigma_a.shape != sigma_s_prime.shape:
@@ -392,7 +411,8 @@ class ProfileSet:
                                 f"{sigma_s_prime.shape}")
         handle = ctypes.c_void_p()
         _check(library().ssNewProfileSetFromDipoles(sigma_a.shape[1], sigma_a.shape[0], _floats(sigma_a),
-                                                    _floats(sigma_s_prime), eta, tolerance, ctypes.byref(handle)))
+                                                    _floats(sigma_s_prime), eta, tolerance,
+                                                    PROFILE_MODELS[profile_model], ctypes.byref(handle)))
         return cls(handle)
 
     @classmethod

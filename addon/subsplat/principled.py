@@ -1,8 +1,9 @@
 """Translucency from a Principled BSDF (material.subsplat.source == 'PRINCIPLED'), docs/PRINCIPLED.md.
 
-The BSDF's subsurface colour is read as the diffuse albedo, the total diffuse reflectance Rd_total of
-a dipole, and its radius as the diffuse mean free path 1 / sigma_tr per channel (Jensen et al.
-2001). Inverting Rd_total(alpha') per channel gives the reduced albedo alpha'; then
+The BSDF's subsurface colour is read as the diffuse albedo, the total reflectance of the material's
+profile model (Rd_total of the dipole, or the half-space's R(1) for TABULATED), and its radius as the
+diffuse mean free path 1 / sigma_tr per channel (Jensen et al. 2001). Inverting the total per channel
+gives the reduced albedo alpha'; then
 
     sigma_t' = sigma_tr / sqrt(3 (1 - alpha')),  sigma_s' = alpha' sigma_t',  sigma_a = sigma_t' - sigma_s'.
 
@@ -35,31 +36,41 @@ def dipole_total_reflectance(reduced_albedo, eta):
     return native.dipole_total_reflectance(reduced_albedo, eta)
 
 
-def reduced_albedo(total_reflectance, eta):
-    """The alpha' whose Rd_total is the given albedo (bisection; Rd_total rises with alpha')."""
-    target = np.asarray(total_reflectance, dtype=np.float64)
+def total_reflectance(reduced_albedo, eta, profile_model="DIPOLE"):
+    """The profile model's total reflectance at normal incidence, elementwise, from the library."""
+    if profile_model == "DIPOLE":
+        return dipole_total_reflectance(reduced_albedo, eta)
+    return native.total_reflectance(profile_model, reduced_albedo, eta)
+
+
+def reduced_albedo(total, eta, profile_model="DIPOLE"):
+    """The alpha' whose total reflectance is the given albedo (bisection; the total rises with alpha')."""
+    target = np.asarray(total, dtype=np.float64)
     lo, hi = np.zeros_like(target), np.full_like(target, MAX_REDUCED_ALBEDO)
     for _ in range(50):
         mid = 0.5 * (lo + hi)
-        below = dipole_total_reflectance(mid, eta) < target
+        below = total_reflectance(mid, eta, profile_model) < target
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
     return 0.5 * (lo + hi)
 
 
-def coefficients(albedo, mean_free_path_mm, eta):
-    """sigma_a and sigma_s' per mm from albedo (Rd_total) and mean free path 1/sigma_tr in mm."""
-    alpha = reduced_albedo(np.clip(albedo, 0.0, 1.0), eta)
+def coefficients(albedo, mean_free_path_mm, eta, profile_model="DIPOLE"):
+    """sigma_a and sigma_s' per mm from albedo (the model's total reflectance) and mean free path
+    1/sigma_tr in mm."""
+    alpha = reduced_albedo(np.clip(albedo, 0.0, 1.0), eta, profile_model)
     sigma_tr = 1.0 / np.asarray(mean_free_path_mm, dtype=np.float64)
     sigma_t = sigma_tr / np.sqrt(3.0 * (1.0 - alpha))
     sigma_s = alpha * sigma_t
     return (sigma_t - sigma_s).astype(np.float32), sigma_s.astype(np.float32)
 
 
-def albedo_and_path(sigma_a, sigma_s_prime, eta):
-    """The inverse: the albedo and mean free path (mm) a dipole has; for building test materials."""
+def albedo_and_path(sigma_a, sigma_s_prime, eta, profile_model="DIPOLE"):
+    """The inverse: the albedo and mean free path (mm) a medium has under the profile model; for
+    building test materials."""
     sigma_a, sigma_s_prime = np.asarray(sigma_a, float), np.asarray(sigma_s_prime, float)
     sigma_t = sigma_a + sigma_s_prime
-    return dipole_total_reflectance(sigma_s_prime / sigma_t, eta), 1.0 / np.sqrt(3 * sigma_a * sigma_t)
+    return (total_reflectance(sigma_s_prime / sigma_t, eta, profile_model),
+            1.0 / np.sqrt(3 * sigma_a * sigma_t))
 
 
 def _image_values(image, linear_colour):
@@ -96,9 +107,9 @@ def _resample(values, shape):
     return values[rows][:, cols]
 
 
-def read(material, node, mm_per_unit, eta):
-    """Per-texel dipole coefficients of a Principled BSDF: (sigma_a, sigma_s_prime, warnings, key),
-    both (height, width, 3) per mm; key identifies the inputs, for caching."""
+def read(material, node, mm_per_unit, eta, profile_model="DIPOLE"):
+    """Per-texel coefficients of a Principled BSDF under the profile model: (sigma_a, sigma_s_prime,
+    warnings, key), both (height, width, 3) per mm; key identifies the inputs, for caching."""
     warnings = []
     colour, colour_image = _socket_map(material, node.inputs[COLOR_INPUT], True, warnings)
     radius, radius_image = _socket_map(material, node.inputs[RADIUS_INPUT], False, warnings)
@@ -129,8 +140,8 @@ def read(material, node, mm_per_unit, eta):
         colour = np.round(colour * 255.0) / 255.0
     if radius_image is not None:  # steps of 0.4 %
         path_mm = np.exp(np.round(np.log(path_mm) * 256.0) / 256.0)
-    sigma_a, sigma_s = coefficients(colour, path_mm, eta)
+    sigma_a, sigma_s = coefficients(colour, path_mm, eta, profile_model)
     digest = hashlib.blake2b(colour.tobytes() + path_mm.tobytes(), digest_size=16).hexdigest()
-    key = (digest, eta, shape, colour_image.name if colour_image else None,
+    key = (digest, eta, profile_model, shape, colour_image.name if colour_image else None,
            radius_image.name if radius_image else None)
     return sigma_a, sigma_s, warnings, key

@@ -165,6 +165,15 @@ class SubsplatMaterialSettings(bpy.types.PropertyGroup):
                                        description="Reduced scattering coefficient sigma_s' per millimetre (RGB)")
     eta: FloatProperty(name="IOR", default=presets.MEASURED_ETA, min=1.0, max=3.0,
                        description="Relative index of refraction")
+    profile_model: EnumProperty(name="Profile Model", default="TABULATED", items=[
+        ("TABULATED", "Tabulated Transport",
+         "The half-space's scattering profile and angular factors and thin slabs' transmission, tabulated "
+         "from exact solutions of light transport (docs/TRANSPORT.md); matches path-traced truth on slabs "
+         "and thin parts"),
+        ("DIPOLE", "Classical Dipole",
+         "The dipole diffusion model of Jensen et al. 2001, the paper's: no direction, no thin parts")],
+        description="The model a homogeneous medium's translucency comes from (absorption and scattering "
+                    "coefficients, Principled BSDF)")
     mm_per_unit: FloatProperty(name="Millimetres per Unit", default=1000.0, min=1e-6, max=1e9, soft_min=0.1,
                                soft_max=10000.0,
                                description="Scale of the scene: millimetres in one Blender unit (1000 when 1 unit is 1 m)")

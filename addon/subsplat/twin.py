@@ -41,7 +41,8 @@ def medium_coefficients(material):
         if node is None:
             return None, "its Principled BSDF source has no Principled BSDF node", []
         try:
-            sigma_a, sigma_s, warnings, _key = principled.read(material, node, unit, settings.eta)
+            sigma_a, sigma_s, warnings, _key = principled.read(material, node, unit, settings.eta,
+                                                               settings.profile_model)
         except principled.PrincipledError as error:
             return None, str(error), []
         sigma_a, sigma_s = sigma_a.reshape(-1, 3), sigma_s.reshape(-1, 3)

@@ -88,6 +88,8 @@ class SUBSPLAT_PT_material(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "preset")
             layout.prop(settings, "sigma_a")
             layout.prop(settings, "sigma_s_prime")
+        if settings.source in ("DIPOLE", "PRINCIPLED"):
+            layout.prop(settings, "profile_model")
         layout.prop(settings, "eta")
         layout.prop(settings, "mm_per_unit")
         layout.prop(settings, "roughness")

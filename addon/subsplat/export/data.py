@@ -20,7 +20,8 @@ def column_major(matrix):
 
 @dataclass
 class Material:
-    """SsMaterialDesc. kind: "OPAQUE", "DIPOLE" or "SUBEDIT" (which has profiles, a native.ProfileSet)."""
+    """SsMaterialDesc. kind: "OPAQUE", "DIPOLE" or "SUBEDIT" (which has profiles, a native.ProfileSet);
+    profile_model: "DIPOLE" or "TABULATED" (a DIPOLE kind's)."""
     kind: str
     base_color: Vector3 = ZERO3
     sigma_a: Vector3 = ZERO3
@@ -29,6 +30,7 @@ class Material:
     mm_per_unit: float = 0.0
     roughness: float = 0.0
     specular: float = 0.0
+    profile_model: str = "DIPOLE"
     profiles: Any = None
 
 

@@ -73,21 +73,37 @@ def subedit_file_profiles(material):
         material, lambda: native.ProfileSet.load(path, settings.fit_tolerance)))
 
 
-def principled_profiles(material, warnings=None):
-    """The ProfileSet of a PRINCIPLED material, made again only when its inputs changed."""
+def principled_coefficients(material, warnings=None):
+    """The per-texel coefficients of a PRINCIPLED material under its profile model: (sigma_a,
+    sigma_s_prime, key), each (height, width, 3) per mm."""
     settings = material.subsplat
     node = principled_node(material)
     if node is None:
         raise ExportError(f"material '{material.name}': the Principled BSDF source needs a Principled BSDF node")
     try:
-        sigma_a, sigma_s, notes, key = principled.read(material, node, settings.mm_per_unit, settings.eta)
+        sigma_a, sigma_s, notes, key = principled.read(material, node, settings.mm_per_unit, settings.eta,
+                                                       settings.profile_model)
     except principled.PrincipledError as error:
         raise ExportError(str(error)) from None
     if warnings is not None:
         warnings.extend(notes)
+    return sigma_a, sigma_s, key
+
+
+def uniform(sigma_a, sigma_s):
+    """Whether every texel holds the same medium (a Principled BSDF with no texture)."""
+    return bool(np.all(sigma_a == sigma_a.reshape(-1, 3)[0]) and np.all(sigma_s == sigma_s.reshape(-1, 3)[0]))
+
+
+def principled_profiles(material, warnings=None, coefficients=None):
+    """The ProfileSet of a PRINCIPLED material, made again only when its inputs changed
+    (coefficients: principled_coefficients' answer, when the caller has it)."""
+    settings = material.subsplat
+    sigma_a, sigma_s, key = coefficients or principled_coefficients(material, warnings)
     key = (key, settings.fit_tolerance, settings.mm_per_unit)
     return _cached(("PRINCIPLED", material.name_full), key, lambda: _native_profiles(
-        material, lambda: native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance)))
+        material, lambda: native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance,
+                                                         settings.profile_model)))
 
 
 def artist_profiles(material):
@@ -128,7 +144,7 @@ def material_profiles(material):
     sigma_a = np.array(settings.sigma_a, dtype=np.float32).reshape(1, 1, 3)
     sigma_s_prime = np.array(settings.sigma_s_prime, dtype=np.float32).reshape(1, 1, 3)
     return _native_profiles(material, lambda: native.ProfileSet.from_dipoles(
-        sigma_a, sigma_s_prime, settings.eta, settings.fit_tolerance))
+        sigma_a, sigma_s_prime, settings.eta, settings.fit_tolerance, settings.profile_model))
 
 
 # Blender's material without a material slot: light grey, half rough.
@@ -147,7 +163,22 @@ def material_data(material, warnings=None):
     if settings.enabled:
         data = Material(kind="DIPOLE", sigma_a=tuple(settings.sigma_a), sigma_s_prime=tuple(settings.sigma_s_prime),
                         eta=settings.eta, mm_per_unit=settings.mm_per_unit, roughness=settings.roughness,
-                        specular=settings.specular)
+                        specular=settings.specular, profile_model=settings.profile_model)
+        if settings.source == "PRINCIPLED" and settings.profile_model == "TABULATED":
+            # An untextured BSDF is one medium: rendered as such, the model's angular and thin-part
+            # factors apply (a profile set keeps radial profiles alone).
+            coefficients = principled_coefficients(material, warnings)
+            sigma_a, sigma_s, _key = coefficients
+            if uniform(sigma_a, sigma_s):
+                data.sigma_a = tuple(float(v) for v in sigma_a.reshape(-1, 3)[0])
+                data.sigma_s_prime = tuple(float(v) for v in sigma_s.reshape(-1, 3)[0])
+                return data
+            data.kind, data.profiles = "SUBEDIT", principled_profiles(material, None, coefficients)
+            if warnings is not None:
+                warnings.append(f"material '{material.name}': its textured Principled BSDF varies the medium per "
+                                "texel, which SubSplat renders with the TABULATED model's radial profiles alone: "
+                                "without its angular and thin-part factors (those of one medium; docs/TRANSPORT.md)")
+            return data
         profiles = source_profiles(material, warnings)
         if profiles is not None:
             data.kind = "SUBEDIT"
