@@ -1,18 +1,27 @@
-"""Plane test through the engine: a wide slab under a sun exits E * Rd_total far from its edges.
+"""Plane test through the engine, per profile model: a wide slab under a sun, seen from straight above.
+
+- DIPOLE (the classical dipole): it exits E * Rd_total far from its edges, radiance F_t / pi times that.
+- TABULATED (the default, docs/TRANSPORT.md "The TABULATED model"): its closed form, the exact radiance
+  of the index-matched half-space, a E H(mu0) H(mu) / (4 pi (mu0 + mu)) (Chandrasekhar; H from the
+  tests' own solver, subsplat_testing.hfunction), times the model's boundary factor for eta > 1
+  (Rd_total(eta) / Rd_total(1) of the dipole) and the Fresnel transmittances at entry and exit.
 
 Every method within 3 %; REFERENCE, the ruler, within 1 %."""
 import math
 import unittest
 
-from subsplat_testing import helpers
+from subsplat_testing import helpers, hfunction
 
 subsplat = helpers.enable_addon()
 
 
 class PlaneExitance(unittest.TestCase):
-    """Radiance seen from above = F_t(0)/pi * E cos(theta) F_t(theta) * Rd_total, per channel."""
+    """DIPOLE: radiance seen from above = F_t(0)/pi * E cos(theta) F_t(theta) * Rd_total, per channel."""
+
+    MODEL = "DIPOLE"
 
     STRENGTH = 3.0
+    ETA = None  # the preset's
     MM_PER_UNIT = 200.0  # splat radius ~0.2 units against a slab half-width of 2
 
     TOLERANCE = {"BRUTE": 0.03, "MULTIRES": 0.03, "ADAPTIVE": 0.03, "FULL": 0.03, "REFERENCE": 0.01}
@@ -29,21 +38,30 @@ class PlaneExitance(unittest.TestCase):
         material.subsplat.preset = preset
         material.subsplat.mm_per_unit = self.MM_PER_UNIT
         material.subsplat.specular = 0.0
+        material.subsplat.profile_model = self.MODEL
+        if self.ETA is not None:
+            material.subsplat.eta = self.ETA
         helpers.plane(scene, 4.0, material)
         helpers.top_down_camera(scene, ortho_scale=1.0)
         theta = math.radians(incidence_degrees)
         helpers.add_light(scene, "SUN", rotation=(theta, 0, 0), energy=self.STRENGTH, angle=0.0)
-        pixels = helpers.render(scene, f"plane_{method.lower()}_{preset.lower()}_{incidence_degrees}")
+        pixels = helpers.render(scene, f"plane_{self.MODEL.lower()}_{method.lower()}_{preset.lower()}_"
+                                       f"{incidence_degrees}")
         measured = helpers.centre(pixels, 0.5)[..., :3].reshape(-1, 3).mean(axis=0)
         settings = material.subsplat
         for c in range(3):
-            rd = helpers.dipole_total_reflectance(settings.sigma_a[c], settings.sigma_s_prime[c], settings.eta)
-            expected = (helpers.fresnel_transmittance(settings.eta, 1.0) / math.pi * self.STRENGTH *
-                        math.cos(theta) * helpers.fresnel_transmittance(settings.eta, math.cos(theta)) * rd)
-            with self.subTest(method=method, preset=preset, incidence=incidence_degrees, channel="RGB"[c]):
-                print(f"plane {method} {preset} {incidence_degrees} deg {'RGB'[c]}: {measured[c] / expected:.4f}")
+            expected = self.expected(settings.sigma_a[c], settings.sigma_s_prime[c], settings.eta, math.cos(theta))
+            with self.subTest(model=self.MODEL, method=method, preset=preset, incidence=incidence_degrees,
+                              channel="RGB"[c]):
+                print(f"plane {self.MODEL} {method} {preset} {incidence_degrees} deg {'RGB'[c]}: "
+                      f"{measured[c] / expected:.4f}")
                 self.assertAlmostEqual(measured[c] / expected, 1.0, delta=self.TOLERANCE[method],
                                        msg=f"measured {measured[c]:.6g}, expected {expected:.6g}")
+
+    def expected(self, sigma_a, sigma_s_prime, eta, mu0):
+        rd = helpers.dipole_total_reflectance(sigma_a, sigma_s_prime, eta)
+        return (helpers.fresnel_transmittance(eta, 1.0) / math.pi * self.STRENGTH * mu0 *
+                helpers.fresnel_transmittance(eta, mu0) * rd)
 
     def test_marble(self):
         for incidence in (0, 60):
@@ -77,6 +95,26 @@ class PlaneExitance(unittest.TestCase):
         for preset in ("MARBLE", "SKIN1", "KETCHUP"):
             for incidence in (0, 60):
                 self.check(preset, incidence, method="REFERENCE")
+
+
+class TabulatedPlaneExitance(PlaneExitance):
+    """TABULATED at the presets' eta (1.3): F_t(0) E cos(theta) F_t(theta) times the half-space's
+    a H(mu0) H(1) / (4 pi (mu0 + 1)) and the boundary factor, per channel."""
+
+    MODEL = "TABULATED"
+
+    def expected(self, sigma_a, sigma_s_prime, eta, mu0):
+        albedo = sigma_s_prime / (sigma_a + sigma_s_prime)
+        boundary = (helpers.dipole_total_reflectance(sigma_a, sigma_s_prime, eta) /
+                    helpers.dipole_total_reflectance(sigma_a, sigma_s_prime, 1.0))
+        return (helpers.fresnel_transmittance(eta, 1.0) * helpers.fresnel_transmittance(eta, mu0) * boundary *
+                hfunction.sun_radiance(albedo, self.STRENGTH, mu0, 1.0))
+
+
+class TabulatedIndexMatchedPlaneExitance(TabulatedPlaneExitance):
+    """TABULATED at eta = 1: the exact half-space radiance itself, what the Cycles twin converges to."""
+
+    ETA = 1.0
 
 
 if __name__ == "__main__":

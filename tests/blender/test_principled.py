@@ -19,8 +19,8 @@ SKIN_A, SKIN_S = (0.032, 0.17, 0.48), (0.74, 0.88, 1.01)
 MM_PER_UNIT = 100.0
 
 
-def principled_translucent(name, colour, radius):
-    material = materials.translucent(name, mm_per_unit=MM_PER_UNIT)
+def principled_translucent(name, colour, radius, profile_model="DIPOLE"):
+    material = materials.translucent(name, mm_per_unit=MM_PER_UNIT, profile_model=profile_model)
     material.use_nodes = True
     material.subsplat.source = "PRINCIPLED"
     bsdf = material.node_tree.nodes["Principled BSDF"]
@@ -30,10 +30,11 @@ def principled_translucent(name, colour, radius):
     return material
 
 
-def skin_as_principled(name):
-    """Skin1 as a Principled BSDF: its albedo Rd_total and mean free path (in scene units)."""
-    albedo, path_mm = principled.albedo_and_path(SKIN_A, SKIN_S, subsplat.presets.MEASURED_ETA)
-    return principled_translucent(name, tuple(albedo), tuple(path_mm / MM_PER_UNIT))
+def skin_as_principled(name, profile_model="DIPOLE"):
+    """Skin1 as a Principled BSDF: its albedo (the model's total reflectance) and mean free path (in
+    scene units)."""
+    albedo, path_mm = principled.albedo_and_path(SKIN_A, SKIN_S, subsplat.presets.MEASURED_ETA, profile_model)
+    return principled_translucent(name, tuple(albedo), tuple(path_mm / MM_PER_UNIT), profile_model)
 
 
 class Principled(unittest.TestCase):
@@ -42,6 +43,49 @@ class Principled(unittest.TestCase):
         sigma_a, sigma_s = principled.coefficients(albedo, path, 1.3)
         np.testing.assert_allclose(sigma_a, SKIN_A, rtol=1e-4)
         np.testing.assert_allclose(sigma_s, SKIN_S, rtol=1e-4)
+
+    def test_conversion_inverts_the_tabulated_total(self):
+        albedo, path = principled.albedo_and_path(SKIN_A, SKIN_S, 1.3, "TABULATED")
+        sigma_a, sigma_s = principled.coefficients(albedo, path, 1.3, "TABULATED")
+        np.testing.assert_allclose(sigma_a, SKIN_A, rtol=1e-4)
+        np.testing.assert_allclose(sigma_s, SKIN_S, rtol=1e-4)
+        # The same colour is another medium under the dipole: its total is not the half-space's.
+        dipole_albedo, _ = principled.albedo_and_path(SKIN_A, SKIN_S, 1.3, "DIPOLE")
+        self.assertGreater(float(np.abs(albedo / dipole_albedo - 1).max()), 0.02)
+
+    def test_tabulated_principled_renders_its_medium(self):
+        """Under the TABULATED model (the default) an untextured Principled BSDF is one medium: it
+        renders the image of the coefficients it stands for, angular and thin-part factors included."""
+        scene, _, material = materials.sphere_scene(lambda: skin_as_principled("SkinBSDF", "TABULATED"))
+        material.subsplat.source = "DIPOLE"
+        material.subsplat.preset = "SKIN1"
+        medium = helpers.render(scene, "principled_tabulated_medium")
+        material.subsplat.source = "PRINCIPLED"
+        from_bsdf = helpers.render(scene, "principled_tabulated_bsdf")
+        difference = materials.relative_difference(medium, from_bsdf)
+        print(f"TABULATED medium against its Principled BSDF: relative difference {difference:.5f}")
+        if difference >= 0.01:
+            helpers.write_difference("principled_tabulated_bsdf", from_bsdf, medium)
+        self.assertLess(difference, 0.01)
+
+    def test_a_textured_bsdf_under_tabulated_says_what_it_leaves_out(self):
+        """A texture makes the medium vary per texel: under TABULATED it gets the radial profiles of
+        its texels' media, not the angular and thin-part factors of one medium, and says so."""
+        for model in ("TABULATED", "DIPOLE"):
+            bpy.ops.wm.read_homefile(use_empty=True)
+            material = skin_as_principled("Textured", model)
+            image = bpy.data.images.new("Halves", 2, 1, float_buffer=True)
+            image.colorspace_settings.name = "Non-Color"
+            image.pixels.foreach_set(np.array([0.05, 0.02, 0.01, 1.0, 0.8, 0.6, 0.5, 1.0], dtype=np.float32))
+            texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+            texture.image = image
+            material.node_tree.links.new(texture.outputs["Color"],
+                                         material.node_tree.nodes["Principled BSDF"].inputs[principled.COLOR_INPUT])
+            warnings = []
+            described = subsplat.export.materials.material_data(material, warnings)
+            self.assertEqual(described.kind, "SUBEDIT", model)
+            said = [w for w in warnings if "angular and thin-part factors" in w]
+            self.assertEqual(len(said), 1 if model == "TABULATED" else 0, (model, warnings))
 
     def test_dipole_principled_and_baked_file_render_the_same_image(self):
         scene, _, material = materials.sphere_scene(lambda: skin_as_principled("SkinBSDF"))

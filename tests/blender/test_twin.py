@@ -33,7 +33,7 @@ def expected_medium(material):
         albedo = np.array(node.inputs[subsplat.principled.COLOR_INPUT].default_value[:3])
         path = (np.array(node.inputs[subsplat.principled.RADIUS_INPUT].default_value[:3])
                 * node.inputs[subsplat.principled.SCALE_INPUT].default_value * settings.mm_per_unit)
-        sigma_a, sigma_s = subsplat.principled.coefficients(albedo, path, settings.eta)
+        sigma_a, sigma_s = subsplat.principled.coefficients(albedo, path, settings.eta, settings.profile_model)
     return sigma_a * settings.mm_per_unit, sigma_s * settings.mm_per_unit
 
 
@@ -221,30 +221,36 @@ class Examples(unittest.TestCase):
         self.assertTrue(any("'One Flipped'" in w and "normals disagree (4 edges" in w for w in warnings), warnings)
         self.assertFalse(any("'Good'" in w or "'Mirrored'" in w for w in warnings), warnings)
 
-    def test_principled_source_is_its_dipole(self):
-        bpy.ops.wm.read_homefile(use_empty=True)
-        scene = bpy.context.scene
+    def test_principled_source_is_its_medium(self):
+        """A Principled BSDF's colour is the total reflectance of the material's profile model: the
+        twin holds the medium that colour inverts to under that model (the TABULATED model's total is
+        the exact half-space albedo, so its twin reflects the colour asked for)."""
         skin_a, skin_s = np.array([0.032, 0.17, 0.48]), np.array([0.74, 0.88, 1.01])
-        albedo, path_mm = subsplat.principled.albedo_and_path(skin_a, skin_s, 1.3)
-        material = materials.translucent("SkinBSDF", mm_per_unit=100.0)
-        material.use_nodes = True
-        material.subsplat.source = "PRINCIPLED"
-        node = material.node_tree.nodes["Principled BSDF"]
-        node.inputs[subsplat.principled.COLOR_INPUT].default_value = (*albedo, 1.0)
-        node.inputs[subsplat.principled.RADIUS_INPUT].default_value = path_mm / 100.0
-        node.inputs[subsplat.principled.SCALE_INPUT].default_value = 1.0
-        mesh = bpy.data.meshes.new("Box")
-        mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
-        mesh.materials.append(material)
-        scene.collection.objects.link(bpy.data.objects.new("Box", mesh))
-        result, _reports = twin.make_cycles_twin(scene)
-        made = result.collection.objects["Box Cycles Twin"].material_slots[0].material
-        check_medium(self, made, material)
-        scatter, absorption, _ = volume_nodes(self, made)
-        np.testing.assert_allclose(np.array(scatter.inputs["Color"].default_value[:3])
-                                   * scatter.inputs["Density"].default_value, skin_s * 100.0, rtol=1e-3)
-        np.testing.assert_allclose((1 - np.array(absorption.inputs["Color"].default_value[:3]))
-                                   * absorption.inputs["Density"].default_value, skin_a * 100.0, rtol=1e-3)
+        for model in ("DIPOLE", "TABULATED"):
+            with self.subTest(model=model):
+                bpy.ops.wm.read_homefile(use_empty=True)
+                scene = bpy.context.scene
+                albedo, path_mm = subsplat.principled.albedo_and_path(skin_a, skin_s, 1.3, model)
+                material = materials.translucent("SkinBSDF", mm_per_unit=100.0, profile_model=model)
+                material.use_nodes = True
+                material.subsplat.source = "PRINCIPLED"
+                node = material.node_tree.nodes["Principled BSDF"]
+                node.inputs[subsplat.principled.COLOR_INPUT].default_value = (*albedo, 1.0)
+                node.inputs[subsplat.principled.RADIUS_INPUT].default_value = path_mm / 100.0
+                node.inputs[subsplat.principled.SCALE_INPUT].default_value = 1.0
+                mesh = bpy.data.meshes.new("Box")
+                mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+                mesh.materials.append(material)
+                scene.collection.objects.link(bpy.data.objects.new("Box", mesh))
+                result, _reports = twin.make_cycles_twin(scene)
+                made = result.collection.objects["Box Cycles Twin"].material_slots[0].material
+                check_medium(self, made, material)
+                scatter, absorption, _ = volume_nodes(self, made)
+                np.testing.assert_allclose(np.array(scatter.inputs["Color"].default_value[:3])
+                                           * scatter.inputs["Density"].default_value, skin_s * 100.0, rtol=1e-3)
+                np.testing.assert_allclose((1 - np.array(absorption.inputs["Color"].default_value[:3]))
+                                           * absorption.inputs["Density"].default_value, skin_a * 100.0,
+                                           rtol=1e-3)
 
 
 # The conventions check: a slab of thickness D (units) of the twin's medium, index-matched, between an

@@ -84,7 +84,9 @@ def steps():
     brightness = inside.sum(axis=-1)
     lit = inside[brightness > np.percentile(brightness, 95)].mean(axis=0)
     check(lit.sum() > corner.sum() + 0.3, f"the lit side of the sphere stands out ({lit} vs background {corner})")
-    check(lit[0] > lit[2] + 0.1, f"the skin material looks warm (red > blue: {lit})")
+    # Skin1's exact albedo is 0.45 / 0.25 / 0.16 (docs/TRANSPORT.md), less saturated than the dipole's
+    # 0.44 / 0.23 / 0.13; its warmth against marble's is checked below.
+    check(lit[0] > lit[2] + 0.05, f"the skin material looks warm (red > blue: {lit})")
     # The header's left part (editor type, mode and menus) and the properties editor; the
     # shading buttons on the right differ by engine (Workbench has no Material Preview).
     header = region(view_area, "HEADER")
@@ -117,8 +119,11 @@ def steps():
     marble = screenshot("marble")
     inside_skin = crop_region(skin, region(view_area, "WINDOW"))
     inside_marble = crop_region(marble, region(view_area, "WINDOW"))
-    changed = float(np.abs(inside_skin - inside_marble).mean())
-    check(changed > 0.005, f"the image changes with the material (mean difference {changed:.4f})")
+    on_sphere = inside_skin.sum(axis=-1) > corner.sum() + 0.1  # the sphere's lit pixels, not the background
+    changed = float(np.abs(inside_skin - inside_marble)[on_sphere].mean())
+    check(changed > 0.02, f"the image changes with the material (mean difference on the sphere {changed:.4f})")
+    warmth = [float((image[on_sphere][:, 0] - image[on_sphere][:, 2]).mean()) for image in (inside_skin, inside_marble)]
+    check(warmth[0] > warmth[1] + 0.05, f"skin looks warmer than marble (red - blue: {warmth[0]:.3f}, {warmth[1]:.3f})")
 
     before = subsplat.last_viewport()
     left_before = inside_marble[:, : inside_marble.shape[1] // 2].mean()

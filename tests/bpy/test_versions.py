@@ -269,14 +269,23 @@ class Export(unittest.TestCase):
         self.assertEqual(described["Dipole"].kind, "DIPOLE")
         np.testing.assert_allclose(described["Dipole"].sigma_a, subsplat.presets.MEASURED_MEDIA["SKIN1"][2],
                                    rtol=1e-6)
-        self.assertEqual(described["Principled"].kind, "SUBEDIT")
+        # The default profile model (TABULATED): an untextured BSDF is one medium; under the dipole a
+        # profile set. The colour is the model's total reflectance, the radius x scale its mean free path.
+        self.assertEqual(translucent.subsplat.profile_model, "TABULATED")
+        self.assertEqual(described["Principled"].kind, "DIPOLE")
         info = subsplat.native.profile_info(described["Principled"])
-        # The colour is the dipole's total diffuse reflectance, the radius x scale its mean free path.
         np.testing.assert_allclose(info.total_reflectance, albedo, rtol=0.02)
-        sigma_a, sigma_s = subsplat.principled.coefficients(np.array(albedo), np.array(radius) * scale * 100.0,
-                                                            translucent.subsplat.eta)
-        sigma_tr = np.sqrt(3 * sigma_a * (sigma_a + sigma_s))
-        np.testing.assert_allclose(1 / sigma_tr, np.array(radius) * scale * 100.0, rtol=1e-4)
+        for model in ("DIPOLE", "TABULATED"):
+            sigma_a, sigma_s = subsplat.principled.coefficients(np.array(albedo), np.array(radius) * scale * 100.0,
+                                                                translucent.subsplat.eta, model)
+            sigma_tr = np.sqrt(3 * sigma_a * (sigma_a + sigma_s))
+            np.testing.assert_allclose(1 / sigma_tr, np.array(radius) * scale * 100.0, rtol=1e-4)
+        np.testing.assert_allclose(described["Principled"].sigma_a, sigma_a, rtol=1e-5)  # TABULATED's
+        translucent.subsplat.profile_model = "DIPOLE"
+        described_dipole = subsplat.export.materials.material_data(translucent, [])
+        self.assertEqual(described_dipole.kind, "SUBEDIT")
+        np.testing.assert_allclose(subsplat.native.profile_info(described_dipole).total_reflectance, albedo, rtol=0.02)
+        translucent.subsplat.profile_model = "TABULATED"
         if bpy.app.version >= (4, 0, 0):  # a mix with diffuse, which SubSplat does not make, is named
             bsdf.inputs[PRINCIPLED["weight"]].default_value = 0.5
             self.assertIn("material 'Principled': Subsurface Weight is 0.5; SubSplat renders the whole material "
@@ -289,11 +298,12 @@ class Principled34File(unittest.TestCase):
     """Four Principled BSDFs saved by Blender 3.4 (tests/bpy/principled_3_4.blend), opened here: 4.x
     converts them to v2. What SubSplat reads from them in each version (docs/PRINCIPLED.md)."""
 
-    def read(self, name):
+    def read(self, name, profile_model="DIPOLE"):
         material = bpy.data.materials[name]
         material.subsplat.enabled = True
         material.subsplat.source = "PRINCIPLED"
         material.subsplat.mm_per_unit = 1.0
+        material.subsplat.profile_model = profile_model
         warnings = []
         info = subsplat.native.profile_info(subsplat.export.materials.material_data(material, warnings))
         return np.array(info.total_reflectance), np.array(info.effective_range), warnings
@@ -304,6 +314,13 @@ class Principled34File(unittest.TestCase):
         # Subsurface 1 (A), or Base Color equal to Subsurface Color (D): the same everywhere.
         for name, effective_range in (("A", (1.357, 1.116, 0.654)), ("D", (0.679, 0.558, 0.327))):
             total, reach, warnings = self.read(name)
+            np.testing.assert_allclose(total, (0.8, 0.5, 0.3), rtol=0.005, err_msg=name)
+            np.testing.assert_allclose(reach, effective_range, rtol=0.005, err_msg=name)
+            self.assertEqual(warnings, [])
+        # The default model (TABULATED) inverts its own total: the same colour, another medium (3.4's
+        # figures: docs/PRINCIPLED.md).
+        for name, effective_range in (("A", (1.0693, 0.9462, 0.6000)), ("D", (0.5346, 0.4731, 0.3000))):
+            total, reach, warnings = self.read(name, "TABULATED")
             np.testing.assert_allclose(total, (0.8, 0.5, 0.3), rtol=0.005, err_msg=name)
             np.testing.assert_allclose(reach, effective_range, rtol=0.005, err_msg=name)
             self.assertEqual(warnings, [])
@@ -353,6 +370,7 @@ class Render(unittest.TestCase):
         material.subsplat.preset = "MARBLE"
         material.subsplat.mm_per_unit = 200.0
         material.subsplat.specular = 0.0
+        material.subsplat.profile_model = "DIPOLE"  # Rd_total's model (test_plane checks TABULATED)
         helpers.plane(scene, 4.0, material)
         helpers.top_down_camera(scene, ortho_scale=1.0)
         helpers.add_light(scene, "SUN", energy=3.0, angle=0.0)

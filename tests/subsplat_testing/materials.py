@@ -8,11 +8,16 @@ import numpy as np
 from subsplat_testing import helpers
 
 
-def translucent(name, preset="SKIN1", mm_per_unit=100.0):
+def translucent(name, preset="SKIN1", mm_per_unit=100.0, profile_model="DIPOLE"):
+    """A translucent material of a preset medium. Its profile model is the classical dipole unless
+    asked: these tests compare a material with its baked SubEdit file, which holds radial profiles
+    alone, and the dipole is the model that is nothing more (the TABULATED model's angular and
+    thin-part factors are a homogeneous material's: docs/TRANSPORT.md)."""
     material = bpy.data.materials.new(name)
     material.subsplat.enabled = True
     material.subsplat.preset = preset
     material.subsplat.mm_per_unit = mm_per_unit
+    material.subsplat.profile_model = profile_model
     return material
 
 

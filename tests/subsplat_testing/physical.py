@@ -42,7 +42,9 @@ SUN = 5.0  # sun strength of the built cases (irradiance on a plane facing it)
 
 
 def material(name, preset, mm_per_unit):
-    """A SubSplat material of a measured medium, index matched (eta = 1) and without specular."""
+    """A SubSplat material of a measured medium, index matched (eta = 1) and without specular. Its
+    profile model is the classical dipole, as bench/physical.py measured it (bench/results/
+    physical.json); bench/model.py renders every case under each model (set_profile_model)."""
     m = stability_cases.translucent(name, preset, mm_per_unit)
     m.subsplat.eta = 1.0
     m.subsplat.specular = 0.0
@@ -131,7 +133,22 @@ def close_holes(obj):
     return filled
 
 
-def example_case(name, percentage, bounce=True):
+def set_profile_model(model):
+    """Every translucent material of the file whose source has a profile model (coefficients, a
+    Principled BSDF) renders under `model`; returns the names of those that have none (SubEdit
+    files, artist profiles)."""
+    fixed = []
+    for m in bpy.data.materials:
+        if not m.subsplat.enabled:
+            continue
+        if m.subsplat.source in ("DIPOLE", "PRINCIPLED"):
+            m.subsplat.profile_model = model
+        else:
+            fixed.append(m.name)
+    return fixed
+
+
+def example_case(name, percentage, bounce=True, profile_model="DIPOLE"):
     """The example at `percentage` %, translucent materials at eta = 1 and specular 0, open translucent
     meshes closed. bounce False: the opaque objects are seen by the camera and cast shadows but reflect
     no light onto others (Cycles' ray visibility: SubSplat, like EEVEE without probes, has no light
@@ -152,6 +169,7 @@ def example_case(name, percentage, bounce=True):
         world.use_nodes = False
         world.color = (0.0, 0.0, 0.0)
         notes.append("world black")
+    set_profile_model(profile_model)  # the committed figures' (physical.json, TRADEOFF.md): the dipole
     for m in bpy.data.materials:
         if m.subsplat.enabled:
             m.subsplat.eta = 1.0
