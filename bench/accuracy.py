@@ -20,7 +20,7 @@ import bpy
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
-from subsplat_testing import accuracy, helpers  # noqa: E402
+from subsplat_testing import accuracy, helpers, physical  # noqa: E402
 
 
 def arguments():
@@ -28,6 +28,8 @@ def arguments():
     parser.add_argument("--percentage", type=int, default=50, help="resolution percentage of the 800x600 scenes")
     parser.add_argument("--samples", type=int, default=400000, help="REFERENCE surface samples")
     parser.add_argument("--quick", action="store_true", help="skip the convergence study and Cycles")
+    parser.add_argument("--profile-model", default="DIPOLE", choices=("DIPOLE", "TABULATED"),
+                        help="every coefficient material's profile model (the committed page: DIPOLE)")
     parser.add_argument("--output", default=os.path.join(ROOT, "docs"), help="where ACCURACY.md and images go")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     return parser.parse_args(argv)
@@ -41,6 +43,7 @@ def main():
     rows, strips = [], []
     for name in accuracy.EXAMPLES:
         scene = accuracy.open_example(name, args.percentage)
+        physical.set_profile_model(args.profile_model)
         start = time.perf_counter()
         reference, reference_b, reference_stats = accuracy.render_passes(scene, "REFERENCE", args.samples)
         reference_s = time.perf_counter() - start
@@ -63,6 +66,7 @@ def main():
     convergence, cycles = [], []
     if not args.quick:
         scene = accuracy.open_example("skin_suzanne", 25)
+        physical.set_profile_model(args.profile_model)
         truth, truth_b, _ = accuracy.render_passes(scene, "REFERENCE", 1600000)
         for samples in (25000, 50000, 100000, 200000, 400000):
             image, image_b, _ = accuracy.render_passes(scene, "REFERENCE", samples)
@@ -79,7 +83,7 @@ def main():
 def write_report(args, rows, strips, convergence, cycles):
     command = ("BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat "
                f"--python bench/accuracy.py -- --percentage {args.percentage} --samples {args.samples}"
-               + (" --quick" if args.quick else ""))
+               + (" --quick" if args.quick else "") + f" --profile-model {args.profile_model}")
     lines = [
         "# Accuracy against REFERENCE",
         "",
@@ -89,6 +93,8 @@ def write_report(args, rows, strips, convergence, cycles):
         "",
         f"Taken {datetime.date.today().isoformat()} on {helpers.machine()}, Blender {bpy.app.version_string} "
         "(OpenGL: Mesa llvmpipe on these machines).",
+        "",
+        f"Every material with coefficients renders under the profile model {args.profile_model} (docs/TRANSPORT.md).",
         "",
         "REFERENCE (docs/REFERENCE.md) evaluates eq. 4/5 in object space on the CPU, with the same",
         "profiles, light models, Fresnel and specular terms as the real-time methods: what is left",

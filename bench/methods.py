@@ -33,11 +33,14 @@ def scattering_ranges(scene):
     return min((lo for lo, _ in spans), default=float("inf")), max((hi for _, hi in spans), default=0.0)
 
 
-def export(path, directory):
+def export(path, directory, profile_model):
     """Renders the example once as the benchmark sets it up, saving the scene file on the way."""
     import subsplat
     name = os.path.splitext(os.path.basename(path))[0]
     bpy.ops.wm.open_mainfile(filepath=path)
+    for material in bpy.data.materials:  # the committed tables: the classical dipole's
+        if material.subsplat.enabled and material.subsplat.source in ("DIPOLE", "PRINCIPLED"):
+            material.subsplat.profile_model = profile_model
     scene = bpy.context.scene
     scene.render.engine = "SUBSPLAT"
     scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 800, 600, 100
@@ -55,6 +58,8 @@ def export(path, directory):
 def main():
     parser = argparse.ArgumentParser(prog="bench/methods.py")
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--profile-model", default="DIPOLE", choices=("DIPOLE", "TABULATED"),
+                        help="every coefficient material's profile model (docs/BENCHMARKS.md's tables: DIPOLE)")
     parser.add_argument("--export-only", action="store_true", help="write the scene files, measure nothing")
     parser.add_argument("--report", action="store_true",
                         help="rewrite docs/BENCHMARKS.md from the last run's build/bench/report.json, measure nothing")
@@ -69,7 +74,7 @@ def main():
         return
     scenes, ranges = [], {}
     for path in sorted(glob.glob(os.path.join(ROOT, "example_blends", "*.blend"))):
-        name, scene_file, span = export(path, directory)
+        name, scene_file, span = export(path, directory, args.profile_model)
         scenes.append(scene_file)
         ranges[name] = span
         print(f"exported {scene_file}; R_P / bounding radius {span[0]:.3f} - {span[1]:.3f}", flush=True)
@@ -88,7 +93,7 @@ def write_document(report, ranges, runs):
     command = COMMAND + (f" -- --runs {runs}" if runs != 3 else "")
     path = os.path.join(ROOT, "docs", "BENCHMARKS.md")
     lines = ["# Benchmarks", "", *replay.document(report, ranges, command, LEVELS, note=NOTE)]
-    other = sections.kept(path, ["viewport"])  # bench/viewport.py's section
+    other = sections.kept(path, ["viewport", "profile models"])  # bench/viewport.py's, bench/model_tables.py's
     with open(path, "w") as f:
         f.write("\n".join(lines) + ("\n\n" + other + "\n" if other else ""))
     print("wrote docs/BENCHMARKS.md")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About an
-# hour and a half on 2 cores (bench/physical.py alone about 25 minutes):
+# two hours on 2 cores (bench/physical.py alone about 25 minutes):
 #   - the soak: 1000 renders in one Blender process (CI: 300);
 #   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
 #     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);
@@ -8,8 +8,10 @@
 #     and the full sweep of bench/stability.py with the flicker (docs/STABILITY.md's command);
 #   - every example end to end at its full size (CI: 25 %);
 #   - the model against physical truth, every case (bench/physical.py; CI: tests/blender/
-#     test_physical.py renders two cases and checks the committed figures), and the truth harness's
-#     own check (bench/truth_halfspace.py; CI: test_truth.py renders one case).
+#     test_physical.py renders two cases and checks the committed figures), each profile model
+#     against the committed truths (bench/model.py, about 35 minutes; CI: test_physical.py renders
+#     two cases under TABULATED), and the truth harness's own check (bench/truth_halfspace.py; CI:
+#     test_truth.py renders one case).
 # Each is a CTest test labelled slow (tests/CMakeLists.txt), run one at a time so that their
 # figures are not shared with other work. Results: the figures each prints, in build/slow.log;
 # the documents and images of the sweeps (TRADEOFF.md, STABILITY.md, images/) in

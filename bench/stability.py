@@ -32,7 +32,7 @@ from subsplat_testing import helpers  # noqa: E402
 
 subsplat = helpers.enable_addon()
 import sections  # noqa: E402
-from subsplat_testing import accuracy, stability_cases  # noqa: E402
+from subsplat_testing import accuracy, physical, stability_cases  # noqa: E402
 
 
 def arguments():
@@ -126,6 +126,7 @@ def flicker(args, images):
 
 def _suzanne(percentage):
     scene = accuracy.open_example("skin_suzanne", percentage)
+    physical.set_profile_model("DIPOLE")  # the stability suite's model (stability_cases.translucent)
     scene.render.engine = "SUBSPLAT"
     stability_cases.apply(scene, {"levels": 3})
     return scene

@@ -555,6 +555,10 @@ def write_document(args, results):
              "method's image-space approximations (irradiance buffer, splatting levels, sample selection) take "
              "it from its own model. It is the measure the method settings and AUTO are tuned and tested on "
              "(docs/AUTO.md).", "",
+             "**The model.** Every material with coefficients renders the classical dipole (profile_model "
+             "DIPOLE; `physical.example_case` pins it): the chart measures the paper's model and its "
+             "image-space approximations. The default model since issue 19, TABULATED, against the same "
+             "truths: docs/PHYSICAL.md, \"The model: before and after\".", "",
              "**Which scenes have a truth.** " + (", ".join(physical_scenes) if physical_scenes else
                                                   "None here (--as-is, or only SubEdit examples); where there "
                                                   "is one") + ": every translucent "
