@@ -143,15 +143,7 @@ def main():
             print(f"{name}: not measured: {committed[name]['not_measured']}", flush=True)
         else:
             result = run_case(args, name, kind, build, details, committed)
-            result["command"] = ("BLENDER_USER_SCRIPTS=build/scripts nice -n 19 blender -b --factory-startup "
-                                 "--addons subsplat --python bench/model.py" + (" -- " + " ".join(argv) if argv else ""))
-            result["blender"] = bpy.app.version_string
-            result["machine"] = helpers.machine()
-        results["cases"][name] = result
-        os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-        with open(args.output, "w") as f:  # after every case: a long run keeps what it has done
-            json.dump(results, f, indent=1)
-            f.write("\n")
+        physical.save_case(results, name, result, "model.py", argv, args.output)
     print(f"wrote {args.output}")
 
 

@@ -90,8 +90,9 @@ def physical_section(results):
         c = results["cases"].get(name)
         if c and "models" in c:
             for model in MODELS:
-                lines.append(f"![{name}, {model}: FULL | truth | error ×10]"
-                             f"({os.path.relpath(os.path.join(ROOT, c['models'][model]['FULL']['picture']), os.path.join(ROOT, 'docs'))})")
+                picture = os.path.relpath(os.path.join(ROOT, c["models"][model]["FULL"]["picture"]),
+                                          os.path.join(ROOT, "docs"))
+                lines.append(f"![{name}, {model}: FULL | truth | error ×10]({picture})")
             lines.append("")
     return lines
 

@@ -161,16 +161,8 @@ def main():
     for name, kind, build, details in physical.cases(args.cases, args.size, args.percentage):
         if args.only and name not in args.only:
             continue
-        result = run_case(args, scratch, name, kind, build, details)
-        result["command"] = ("BLENDER_USER_SCRIPTS=build/scripts nice -n 19 blender -b --factory-startup "
-                             "--addons subsplat --python bench/physical.py -- " + " ".join(argv))
-        result["blender"] = bpy.app.version_string
-        result["machine"] = helpers.machine()
-        results["cases"][name] = result
-        os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-        with open(args.output, "w") as f:  # after every case: a long run keeps what it has done
-            json.dump(results, f, indent=1)
-            f.write("\n")
+        physical.save_case(results, name, run_case(args, scratch, name, kind, build, details), "physical.py", argv,
+                           args.output)
     print(f"wrote {args.output}")
 
 

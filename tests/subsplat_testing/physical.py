@@ -302,3 +302,20 @@ def write_picture(path, image, truth, mask):
     scale = max(1, int(math.ceil(96 / image.shape[0])))
     grow = (lambda a: np.repeat(np.repeat(a, scale, axis=0), scale, axis=1))
     return accuracy.write_strip(path, grow(image), grow(truth), grow(mask))
+
+
+def save_case(results, name, result, script, argv, path):
+    """Stores a case's result in `results` (its "cases") and writes them all to `path` as JSON, after
+    every case, so that a long run keeps what it has done; a measured case is stamped with the
+    command that made it (bench/<script> and its arguments), Blender's version and the machine."""
+    import json
+    if "not_measured" not in result:
+        result["command"] = ("BLENDER_USER_SCRIPTS=build/scripts nice -n 19 blender -b --factory-startup "
+                             f"--addons subsplat --python bench/{script}" + (" -- " + " ".join(argv) if argv else ""))
+        result["blender"] = bpy.app.version_string
+        result["machine"] = helpers.machine()
+    results["cases"][name] = result
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(results, f, indent=1)
+        f.write("\n")

@@ -80,12 +80,12 @@ struct Profile {
 
   // R_d(r) per channel, 1 / unit^2 (Jensen et al. 2001; material/dipole.h), for a cell of `area`
   // (unit^2) at squared distance r2. The TABULATED profile has the once-scattered light's 1 / r
-  // peak at r = 0, which a value at the cell's centroid misses by more than the cells' refinement
-  // catches where the mean free path is below a cell: a cell of radius h = sqrt(area / pi) takes P's
-  // mean over the disk of radius h around x_o when nearer than h, else over the ring from r - h to
-  // r + h (exact where P is linear in r, and energy-true at the peak).
+  // peak at r = 0, which a value at the centroid of a cell as large as its distance misses (the
+  // cells near x_o, which refinement stops cutting at the finest cell): a cell of radius
+  // h = sqrt(area / pi) takes P's mean over the disk of radius h around x_o when nearer than h, over
+  // the ring from r - h to r + h when nearer than 8 h (energy-true at the peak), else P at r.
   void evaluate(double r2, double out[3], double area = 0.0) const {
-    if (!tabulated.empty() && area > 0.0) {
+    if (!tabulated.empty() && area > 0.0 && 64.0 * area > M_PI * r2) {
       double h = std::sqrt(area / M_PI) * mmPerUnit, r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
       double lo = std::max(r - h, 0.0), hi = r + h;
       if (r < h) lo = 0.0, hi = h;
