@@ -22,6 +22,20 @@ uniform vec2 kernelTableSize;   // (distance samples, footprint samples)
 uniform float footprintReach;   // x sigma
 uniform vec2 kernelLog2Range;   // table rows: log2(sigma / support) at first and last
 layout(location = 0) out vec4 exitance;
+
+// The kernel of a profile of support `support` (table layer `layer`) at distance d, for this
+// splat's footprint. Past the table's widest footprint (a texel thousands of times the profile's
+// support: a scene in kilometres of millimetre skin) the kernel is the footprint's Gaussian times
+// the profile's total, which is self-similar: the widest row, at d scaled down, times the scale
+// squared. Clamping the row instead would give a footprint too narrow, and too much energy.
+vec3 kernelAt(float layer, float support, float d, float row) {
+  float sigmaMax = support * exp2(kernelLog2Range.y);
+  float scale = splatFootprint > sigmaMax ? sigmaMax / splatFootprint : 1.0;
+  float reach = footprintReach * splatFootprint * scale + support;
+  vec2 uv = (vec2(sqrt(min(d * scale / reach, 1.0)), row) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
+  return texture(splatKernels, vec3(uv, layer)).rgb * (scale * scale);
+}
+
 void main() {
   vec4 po = texelFetch(splattingPositionObject, ivec2(gl_FragCoord.xy), splatLevel);
   // Light does not scatter between separate objects.
@@ -30,10 +44,7 @@ void main() {
   float reach = footprintReach * splatFootprint + support;
   float d = distance(po.xyz, splatPosition);
   if (d >= reach || d < splatRange.x || d >= splatRange.y) discard;
-  float t = sqrt(d / reach);
-  vec2 uv = (vec2(t, splatKernelRow) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
-  float layer = materials[splatMaterial].optics.w;
-  vec3 kernel = texture(splatKernels, vec3(uv, layer)).rgb;
+  vec3 kernel = kernelAt(materials[splatMaterial].optics.w, support, d, splatKernelRow);
   if (pairProfiles != 0) {
     int mo = int(texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).w);
     if (mo != splatMaterial) {
@@ -43,8 +54,7 @@ void main() {
       if (d >= reachO) discard;
       float rowO = clamp((log2(splatFootprint / supportO) - kernelLog2Range.x) / (kernelLog2Range.y - kernelLog2Range.x),
                          0.0, 1.0);
-      vec2 uvO = (vec2(sqrt(d / reachO), rowO) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
-      kernel = sqrt(kernel * texture(splatKernels, vec3(uvO, materials[mo].optics.w)).rgb);
+      kernel = sqrt(kernel * kernelAt(materials[mo].optics.w, supportO, d, rowO));
     }
   }
   vec3 b = splatFlux * kernel;

@@ -117,5 +117,20 @@ class TabulatedIndexMatchedPlaneExitance(TabulatedPlaneExitance):
     ETA = 1.0
 
 
+class ScaleExtremesCreateNoEnergy(TabulatedIndexMatchedPlaneExitance):
+    """Millimetres per Unit far beyond the profile's scale (1 unit = 100 m, 10 km, 1000 km of skin):
+    every irradiance texel is thousands of times the profile's support, and the splat is the
+    texel's footprint times the profile's total (splat.frag: kernelAt). The plane still exits
+    exactly what the half-space does (before, 1e9 gave about 100 x)."""
+
+    def test_full_at_extreme_scales(self):
+        for mm_per_unit in (1e5, 1e7, 1e9):
+            self.MM_PER_UNIT = mm_per_unit
+            self.check("SKIN1", 0, method="FULL")
+
+    test_marble = test_skin1 = test_ketchup = test_adaptive = test_multires_and_full = None
+    test_reference_within_one_percent = None
+
+
 if __name__ == "__main__":
     helpers.run_tests()
