@@ -95,6 +95,13 @@ def mesh_beyond_memory_budget():
     bpy.context.object.data.materials.append(skin())
 
 
+def panoramic_camera():
+    s = scene()
+    s.camera.name = "Fisheye"
+    s.camera.data.type = "PANO"
+    sphere()
+
+
 BAD = {
     "nan_vertex": (nan_vertex, ["object 'NanSphere'", "non-finite position"]),
     "infinite_vertex": (infinite_vertex, ["object 'InfSphere'", "not finite"]),
@@ -102,6 +109,7 @@ BAD = {
     "garbage_subedit_file": (garbage_subedit_file, ["material 'Garbage'", "bad_input_garbage.exr"]),
     "no_camera": (no_camera, ["no camera"]),
     "mesh_beyond_memory_budget": (mesh_beyond_memory_budget, ["object 'BigSphere'", "memory budget"]),
+    "panoramic_camera": (panoramic_camera, ["camera 'Fisheye' is panoramic", "perspective and orthographic"]),
 }
 ENVIRONMENT = {"mesh_beyond_memory_budget": {"SUBSPLAT_GPU_MEMORY_MB": "1"}}
 
@@ -243,6 +251,57 @@ class BadInputTable(unittest.TestCase):
                 self.assertEqual(status, 0, f"exit status {status}\n{output[-3000:]}")
                 self.assertIsNotNone(pixels)
                 self.assertIn(f"Warning: SubSplat: SUBSPLAT_GPU_MEMORY_MB={value!r} is not a whole number", output)
+
+    def test_an_animation_frame_that_turns_bad_fails_the_render(self):
+        """`blender -b -a`: frame 1 renders, frame 2's shape key sends a vertex to infinity; the
+        render stops there with exit 1 and the message, and writes no image for frame 2."""
+        scene()
+        obj = sphere(name="Blowup")
+        obj.shape_key_add(name="Basis")
+        key = obj.shape_key_add(name="Infinite")
+        key.data[7].co = (0.0, math.inf, 0.0)
+        key.value = 0.0
+        key.keyframe_insert("value", frame=1)
+        key.value = 1.0
+        key.keyframe_insert("value", frame=2)
+        s = bpy.context.scene
+        s.frame_start, s.frame_end = 1, 2
+        s.render.image_settings.file_format = "OPEN_EXR"
+        path = os.path.join(helpers.OUTPUT, "bad_input_animation.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        out = os.path.join(helpers.OUTPUT, "bad_input_animation_")
+        for frame in (1, 2):
+            if os.path.exists(f"{out}{frame:04d}.exr"):
+                os.remove(f"{out}{frame:04d}.exr")
+        result = helpers.run_blender(path, "-E", "SUBSPLAT", "-o", out, "-a")
+        output = result.stdout + result.stderr
+        self.assertEqual(result.returncode, 1, output[-3000:])
+        self.assertIn("object 'Blowup'", output)
+        self.assertTrue(os.path.exists(out + "0001.exr"), "frame 1 is rendered")
+        self.assertFalse(os.path.exists(out + "0002.exr"), "frame 2 is not written")
+
+    def test_unrendered_features_are_named_in_warnings(self):
+        """Blender features SubSplat does not render: the render says so (a warning in the output)
+        and still renders (exit 0, an image)."""
+        def motion_blur():
+            scene().render.use_motion_blur = True
+            sphere()
+
+        def depth_of_field():
+            s = scene()
+            s.camera.name = "Focused"
+            s.camera.data.dof.use_dof = True
+            sphere()
+
+        for name, build, text in (("motion_blur", motion_blur, "Warning: SubSplat: motion blur is on"),
+                                  ("depth_of_field", depth_of_field,
+                                   "Warning: SubSplat: camera 'Focused' has depth of field on")):
+            with self.subTest(case=name):
+                build()
+                status, output, pixels = batch_render(name)
+                self.assertEqual(status, 0, f"{name}: exit status {status}\n{output[-3000:]}")
+                self.assertIsNotNone(pixels, f"{name}: no image written")
+                self.assertIn(text, output)
 
     def test_degenerate_cases_render_finite_images(self):
         for name, build in DEGENERATE.items():

@@ -47,6 +47,7 @@ def export_frame(depsgraph, width, height):
     scene = depsgraph.scene
     frame = Frame()
     frame.camera = camera.camera_data(scene, depsgraph, width, height)
+    frame.warnings.extend(camera.feature_warnings(scene))
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type == "LIGHT":
