@@ -125,6 +125,33 @@ class StabilityBounds(unittest.TestCase):
                         helpers.write_difference(f"hard_scale_{label}_{method.lower()}", ours, unit)
                     self.assertLess(difference, 0.005, f"{method} at {label} against x1")
 
+    def test_far_from_the_origin_renders_the_image_at_the_origin(self):
+        """The same scene 1e4 and 1e7 units from Blender's origin (issue 20, extremes): the library
+        works in single-precision floats, so the add-on sends the world relative to the camera
+        (export.Frame.origin); before, at 1e7 the image came out wrong (mean radiance 9 x)."""
+        import bpy
+        images = {}
+        for offset in (0.0, 1e4, 1e7):
+            scene = helpers.empty_scene(32, 24)
+            scene.render.engine = "SUBSPLAT"
+            helpers.top_down_camera(scene, ortho_scale=3.0).location = (offset, offset, 5.0)
+            helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+            helpers.add_light(scene, "POINT", location=(offset + 1.0, offset, 3.0), energy=100.0,
+                              shadow_soft_size=0.0)
+            material = stability_cases.translucent("Skin", "SKIN1", 30.0, profile_model="TABULATED")
+            stability_cases.uv_sphere(scene, 1.0, material, location=(offset, offset, 0.0))
+            for method in ("REFERENCE", "FULL"):
+                images[offset, method] = accuracy.render_passes(scene, method, 20000)[0]
+            bpy.data.materials.remove(material)
+        for offset in (1e4, 1e7):
+            for method in ("REFERENCE", "FULL"):
+                ours, there = images[offset, method], images[0.0, method]
+                difference = float(np.abs(ours[..., :3] - there[..., :3]).mean() / np.abs(there[..., :3]).mean())
+                with self.subTest(offset=offset, method=method):
+                    if difference >= 0.002:
+                        helpers.write_difference(f"hard_far_{offset:g}_{method.lower()}", ours, there)
+                    self.assertLess(difference, 0.002, f"{method} {offset:g} units away against at the origin")
+
 
 if __name__ == "__main__":
     helpers.run_tests()

@@ -189,7 +189,9 @@ class Export(unittest.TestCase):
         plane = meshes["Plane"]
         np.testing.assert_allclose(plane.normals, [custom] * 4, atol=1e-3)
         self.assertEqual(plane.uvs.shape, (4, 2))
-        self.assertEqual(tuple(plane.object_to_world[12:15]), (2.0, 0.0, 0.0))
+        # The world is sent relative to the camera (export.Frame.origin): the top-down camera at (0, 0, 5).
+        self.assertEqual(frame.origin, (0.0, 0.0, 5.0))
+        self.assertEqual(tuple(plane.object_to_world[12:15]), (2.0, 0.0, -5.0))
         self.assertEqual(len(frame.materials), 2, "the cube's default grey and the plane's material")
 
     def test_lights_and_exposure(self):
@@ -200,11 +202,12 @@ class Export(unittest.TestCase):
         helpers.add_light(scene, "SPOT", location=(0, 0, 4), energy=50.0, spot_size=0.8, spot_blend=0.3)
         helpers.add_light(scene, "SUN", rotation=(math.radians(60), 0, 0), energy=3.0, angle=0.0)
         helpers.add_light(scene, "AREA", location=(0, 0, 2), energy=10.0)
-        lights = {light.type: light for light in self.export().lights if light.type != "POINT" or
+        exported = self.export()
+        lights = {light.type: light for light in exported.lights if light.type != "POINT" or
                   light.strength == 100.0}
         self.assertEqual(set(lights), {"POINT", "SPOT", "SUN"})
         point, spot, sun = lights["POINT"], lights["SPOT"], lights["SUN"]
-        np.testing.assert_allclose(point.position, (1, 2, 3), atol=1e-6)
+        np.testing.assert_allclose(np.add(point.position, exported.origin), (1, 2, 3), atol=1e-6)
         np.testing.assert_allclose(point.color, (1.0, 0.5, 0.25), atol=1e-6)
         self.assertAlmostEqual(spot.spot_size, 0.8, places=6)
         self.assertAlmostEqual(spot.spot_blend, 0.3, places=6)
@@ -222,10 +225,12 @@ class Export(unittest.TestCase):
         scene = helpers.empty_scene(self.WIDTH, self.HEIGHT)
         camera = helpers.top_down_camera(scene, 3.0)
         helpers.plane(scene, 1.0, bpy.data.materials.new("Grey"))
-        exported = self.export().camera
+        frame = self.export()
+        exported = frame.camera
         self.assertTrue(exported.orthographic)
         world_to_view = np.array(exported.world_to_view).reshape(4, 4).T
-        np.testing.assert_allclose(world_to_view @ (0, 0, 0, 1), (0, 0, -5, 1), atol=1e-6)
+        # The world relative to the camera (export.Frame.origin): Blender's origin is 5 below it.
+        np.testing.assert_allclose(world_to_view @ (*np.subtract((0, 0, 0), frame.origin), 1), (0, 0, -5, 1), atol=1e-6)
         clip = np.array(exported.view_to_clip).reshape(4, 4).T
         self.assertAlmostEqual(clip[0, 0], 2 / 3.0, places=5, msg="ortho scale 3 across the width")
         camera.data.type = "PERSP"

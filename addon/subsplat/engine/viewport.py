@@ -82,6 +82,8 @@ class ViewportSession:
         lights_changed = full
         if full:
             self.counters.full_syncs += 1
+            if not self.objects:  # the session's origin: its camera's place when it began (export.Frame)
+                self.frame.origin = camera.camera_origin(depsgraph.scene, depsgraph)
         else:
             for update in depsgraph.updates:
                 item = update.id
@@ -112,7 +114,8 @@ class ViewportSession:
         for instance in depsgraph.object_instances:
             obj = instance.object
             if obj.type == "LIGHT":
-                light_descs.append(lights.light_data(obj, instance.matrix_world, self.frame.warnings))
+                light_descs.append(lights.light_data(obj, instance.matrix_world, self.frame.warnings,
+                                                     self.frame.origin))
                 continue
             if not mesh.renders(obj):
                 continue
@@ -133,7 +136,8 @@ class ViewportSession:
                 entry[1] = exported
                 self._upload(entry)
             elif obj.name_full in moved:
-                entry[1] = dataclasses.replace(entry[1], object_to_world=data.column_major(instance.matrix_world))
+                entry[1] = dataclasses.replace(entry[1], object_to_world=data.column_major(instance.matrix_world,
+                                                                                           self.frame.origin))
                 self._upload(entry)
         for key in set(self.objects) - seen:
             self._remove(key)
@@ -210,7 +214,7 @@ class ViewportSession:
         state = native.gl_state() if diagnostics.check_gl_state else None
         try:
             self._send_pending()
-            self.context.set_camera(camera.view_data(view))
+            self.context.set_camera(camera.view_data(view, self.frame.origin))
             pixels = self.context.render(width, height)
             frame_ms = (time.perf_counter() - start) * 1e3
             self.stats = self.context.stats()

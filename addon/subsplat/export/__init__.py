@@ -15,6 +15,10 @@ class Frame:
         self.lights = []      # data.Light
         self.warnings = []
         self.camera = None    # data.Camera
+        # World positions are sent relative to this point (a final render's camera, the viewport's
+        # camera when its session began): single-precision floats then keep their precision in a
+        # scene far from Blender's origin.
+        self.origin = (0.0, 0.0, 0.0)
 
     def material_id(self, material):
         key = material.name_full if material is not None else ""
@@ -46,12 +50,13 @@ def export_frame(depsgraph, width, height):
     """Every visible mesh instance, its materials, the lights and the camera."""
     scene = depsgraph.scene
     frame = Frame()
-    frame.camera = camera.camera_data(scene, depsgraph, width, height)
+    frame.origin = camera.camera_origin(scene, depsgraph)
+    frame.camera = camera.camera_data(scene, depsgraph, width, height, frame.origin)
     frame.warnings.extend(camera.feature_warnings(scene))
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type == "LIGHT":
-            frame.lights.append(lights.light_data(obj, instance.matrix_world, frame.warnings))
+            frame.lights.append(lights.light_data(obj, instance.matrix_world, frame.warnings, frame.origin))
         elif mesh.renders(obj):
             exported = mesh.export_mesh(obj, instance.matrix_world, frame)
             if exported is not None:

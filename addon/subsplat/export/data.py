@@ -13,9 +13,14 @@ class ExportError(RuntimeError):
     """Scene data the engine cannot render; the message names the object or material."""
 
 
-def column_major(matrix):
-    """A mathutils 4x4 Matrix as 16 floats, column-major (OpenGL order)."""
-    return tuple(matrix[row][col] for col in range(4) for row in range(4))
+def column_major(matrix, origin=None):
+    """A mathutils 4x4 Matrix as 16 floats, column-major (OpenGL order); with `origin` (3 floats),
+    its translation taken relative to it (export.Frame.origin)."""
+    values = [matrix[row][col] for col in range(4) for row in range(4)]
+    if origin is not None:
+        for i in range(3):
+            values[12 + i] -= origin[i]
+    return tuple(values)
 
 
 @dataclass

@@ -3,14 +3,15 @@ from .. import version
 from .data import Light
 
 
-def light_data(obj, matrix, warnings):
-    """An evaluated light object at matrix (its instance's world matrix); a warning for what is
-    rendered otherwise than in Blender is appended to warnings."""
+def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
+    """An evaluated light object at matrix (its instance's world matrix), its position relative to
+    `origin` (export.Frame.origin); a warning for what is rendered otherwise than in Blender is
+    appended to warnings."""
     light = obj.data
     axis = -matrix.col[2].xyz  # lights shine down their local -Z
     direction = tuple(axis.normalized()) if axis.length > 0 else (0.0, 0.0, -1.0)
     data = Light(type="POINT", color=tuple(light.color), strength=version.light_strength(light),
-                 position=tuple(matrix.translation), direction=direction)
+                 position=tuple(t - o for t, o in zip(matrix.translation, origin)), direction=direction)
     if light.type == "SUN":
         data.type = "SUN"
     elif light.type == "SPOT":

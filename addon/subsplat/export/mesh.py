@@ -114,6 +114,7 @@ def export_mesh(obj, matrix, frame):
                 if slot.material is not None and slot.material.name_full in frame.mapped:
                     frame.warnings.append(f"object '{obj.name}' has no UV map: material '{slot.material.name}' "
                                           "shows its most common profile everywhere")
-        return Mesh(obj.name, positions, normals, triangles, triangle_materials, column_major(matrix), uvs)
+        return Mesh(obj.name, positions, normals, triangles, triangle_materials, column_major(matrix, frame.origin),
+                    uvs)
     finally:
         obj.to_mesh_clear()
