@@ -1,7 +1,8 @@
 """Render passes a user can look at: SubSplat Exitance always; with Debug Passes, the selected
 samples per irradiance level and each splatting level's own exitance. They reach the render
 result (compositor, image editor) and scripts (last_render_passes). With Film > Transparent the
-Combined pass has alpha 0 (and no colour) where no object is, for compositing over a plate."""
+Combined pass has alpha 0 (and no colour) where no object is, for compositing over a plate. A render
+border renders the border's part of the frame, cropped to it or placed in the frame as Blender does."""
 import math
 import os
 import unittest
@@ -92,6 +93,52 @@ class FilmTransparent(unittest.TestCase):
             else:
                 np.testing.assert_allclose(corner[:, :3], np.tile([0.3, 0.4, 0.5], (64, 1)), rtol=1e-5)
                 self.assertTrue(np.all(corner[:, 3] == 1.0))
+
+
+class RenderBorder(unittest.TestCase):
+    """Render > Format > Render Region (issue 20, pipeline features): the border's pixels are the
+    frame's pixels there; without Crop the rest of the frame is empty, with Crop the image is the
+    border's size (Blender places and crops the engine's result: Workbench gives the same sizes)."""
+
+    def scene(self):
+        import bpy
+        scene = helpers.empty_scene(64, 48)
+        scene.render.engine = "SUBSPLAT"
+        scene.render.film_transparent = True
+        material = bpy.data.materials.new("Skin")
+        material.subsplat.enabled = True
+        material.subsplat.preset = "SKIN1"
+        material.subsplat.mm_per_unit = 30.0
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(0.5, 0.2, 0.0))
+        bpy.context.object.data.materials.append(material)
+        helpers.top_down_camera(scene, ortho_scale=3.0)
+        helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+        return scene
+
+    def test_the_border_renders_its_part_of_the_frame(self):
+        scene = self.scene()
+        for method in ("REFERENCE", "FULL"):
+            scene.subsplat.method = method
+            scene.subsplat.reference_samples = 20000
+            scene.render.use_border = False
+            whole = helpers.render_to(scene, os.path.join(helpers.OUTPUT, f"border_whole_{method}.exr"))
+            scene.render.use_border = True
+            scene.render.border_min_x, scene.render.border_max_x = 0.25, 0.8  # columns 16 to 50
+            scene.render.border_min_y, scene.render.border_max_y = 0.1, 0.6   # rows 4 to 27
+            for crop in (False, True):
+                scene.render.use_crop_to_border = crop
+                image = helpers.render_to(scene, os.path.join(helpers.OUTPUT, f"border_{method}_{crop}.exr"))
+                part = image if crop else image[4:28, 16:51]
+                self.assertEqual(image.shape[:2], (24, 35) if crop else (48, 64), (method, crop))
+                if not crop:
+                    outside = image.copy()
+                    outside[4:28, 16:51] = 0.0
+                    self.assertEqual(float(np.abs(outside).max()), 0.0, f"{method}: nothing outside the border")
+                expected = whole[4:28, 16:51]
+                difference = float(np.abs(part[..., :3] - expected[..., :3]).mean() / expected[..., :3].mean())
+                if difference >= 0.01:
+                    helpers.write_difference(f"border_{method}_{crop}", part, expected)
+                self.assertLess(difference, 0.01, f"{method}, crop {crop}: the border shows the frame's pixels there")
 
 
 if __name__ == "__main__":

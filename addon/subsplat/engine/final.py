@@ -39,11 +39,17 @@ def render_image(engine, depsgraph, preview):
     scene = depsgraph.scene
     settings = scene.subsplat
     scale = scene.render.resolution_percentage / 100.0
-    width = max(int(scene.render.resolution_x * scale), 1)
-    height = max(int(scene.render.resolution_y * scale), 1)
+    full_width = max(int(scene.render.resolution_x * scale), 1)
+    full_height = max(int(scene.render.resolution_y * scale), 1)
     engine.update_stats("", "SubSplat: exporting scene")
     start = time.perf_counter()
-    frame = export.export_frame(depsgraph, width, height)
+    frame = export.export_frame(depsgraph, full_width, full_height)
+    # A render border: Blender's result is the border's rectangle (and crops to it or not itself);
+    # the camera sees only that part of the frame, at the frame's pixel size.
+    border = (0, 0, full_width, full_height) if preview else export.camera.border_rect(scene.render, full_width,
+                                                                                         full_height)
+    frame.camera = export.camera.bordered(frame.camera, border, full_width, full_height)
+    width, height = border[2], border[3]
     export_ms = (time.perf_counter() - start) * 1e3
     if not preview:  # the material preview scene's area lights are Blender's, not the user's
         for warning in frame.warnings:

@@ -1,4 +1,6 @@
 """The scene camera, or a viewport's view, as Camera data."""
+import dataclasses
+
 from .data import Camera, ExportError, column_major
 
 
@@ -53,3 +55,29 @@ def feature_warnings(scene):
     if camera is not None and camera.type == "CAMERA" and camera.data.dof.use_dof:
         warnings.append(f"camera '{camera.name}' has depth of field on: SubSplat renders everything in focus")
     return warnings
+
+
+def border_rect(render, width, height):
+    """The render border in pixels, (x, y, width, height) from the bottom left, as Blender cuts it
+    (its corners truncated to whole pixels); the whole frame when the border is off."""
+    if not render.use_border:
+        return 0, 0, width, height
+    x0, x1 = int(render.border_min_x * width), int(render.border_max_x * width)
+    y0, y1 = int(render.border_min_y * height), int(render.border_max_y * height)
+    x0, y0 = min(max(x0, 0), width - 1), min(max(y0, 0), height - 1)
+    return x0, y0, max(min(x1, width) - x0, 1), max(min(y1, height) - y0, 1)
+
+
+def bordered(camera, rect, width, height):
+    """The camera (Camera data of a width x height frame) seeing only the pixels of rect (x, y, w,
+    h): its clip space scaled and shifted so that the rectangle fills it."""
+    x, y, w, h = rect
+    if (x, y, w, h) == (0, 0, width, height):
+        return camera
+    # Rows of the matrix that takes the frame's clip space to the rectangle's (column-major below).
+    sx, tx = width / w, (width - 2 * x - w) / w
+    sy, ty = height / h, (height - 2 * y - h) / h
+    p = camera.view_to_clip
+    columns = [p[4 * c:4 * c + 4] for c in range(4)]
+    shifted = [(sx * col[0] + tx * col[3], sy * col[1] + ty * col[3], col[2], col[3]) for col in columns]
+    return dataclasses.replace(camera, view_to_clip=tuple(v for col in shifted for v in col))
