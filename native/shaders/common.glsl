@@ -14,6 +14,7 @@ struct Material {
 layout(std430, binding = STORAGE_MATERIALS) readonly buffer Materials { Material materials[]; };
 
 bool isTranslucent(int m) { return m >= 0 && materials[m].baseColorKind.w > 0.5; }
+bool isHoldout(int m) { return m >= 0 && materials[m].baseColorKind.w < -0.5; }
 bool isTabulated(int m) { return m >= 0 && materials[m].medium.w >= 0.0; }
 
 // The TABULATED model's tables (material/transport_model.h: TransportTables, the same layout and

@@ -1,5 +1,5 @@
 // Eq. 7: L = F_t(w_o) / pi * B(x_o) (times the TABULATED model's exit factor) for translucent surfaces, plus the direct
-// light gathered before; the background where no surface was hit.
+// light gathered before; the background where no surface was hit; transparent black on holdouts.
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_EXITANCE_BUFFER) uniform sampler2D exitanceBuffer;
@@ -15,6 +15,7 @@ void main() {
   if (po.w < 0.0) { color = background; return; }
   vec4 nm = texelFetch(splattingNormalMaterial, pixel, 0);
   int m = int(nm.w);
+  if (isHoldout(m)) { color = vec4(0.0); return; }  // a hole in the image, alpha 0
   vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
   if (isTranslucent(m)) {
     vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);

@@ -26,8 +26,9 @@ std::string vec3String(const float* v) {
 bool isTranslucent(const SsMaterialDesc& m) { return m.kind == SS_MATERIAL_DIPOLE || m.kind == SS_MATERIAL_SUBEDIT; }
 
 void validateMaterial(const SsMaterialDesc& m) {
-  require(m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_DIPOLE || m.kind == SS_MATERIAL_SUBEDIT,
-          "material kind " + std::to_string(m.kind) + " is not OPAQUE, DIPOLE or SUBEDIT");
+  require(m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_DIPOLE || m.kind == SS_MATERIAL_SUBEDIT ||
+              m.kind == SS_MATERIAL_HOLDOUT,
+          "material kind " + std::to_string(m.kind) + " is not OPAQUE, DIPOLE, SUBEDIT or HOLDOUT");
   require(finite(m.base_color, 3) && m.base_color[0] >= 0 && m.base_color[1] >= 0 &&
               m.base_color[2] >= 0,
           "base colour must be finite and non-negative, got " + vec3String(m.base_color));
@@ -35,7 +36,7 @@ void validateMaterial(const SsMaterialDesc& m) {
           "roughness must be in [0, 1], got " + std::to_string(m.roughness));
   require(std::isfinite(m.specular) && m.specular >= 0 && m.specular <= 1,
           "specular must be in [0, 1], got " + std::to_string(m.specular));
-  if (m.kind == SS_MATERIAL_OPAQUE) return;
+  if (m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_HOLDOUT) return;
   require(m.profile_model == SS_PROFILE_DIPOLE || m.profile_model == SS_PROFILE_TABULATED,
           "profile model " + std::to_string(m.profile_model) + " is not DIPOLE (0) or TABULATED (1)");
   require(std::isfinite(m.eta) && m.eta >= 1.0f && m.eta <= 3.0f,

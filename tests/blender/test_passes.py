@@ -2,7 +2,8 @@
 samples per irradiance level and each splatting level's own exitance. They reach the render
 result (compositor, image editor) and scripts (last_render_passes). With Film > Transparent the
 Combined pass has alpha 0 (and no colour) where no object is, for compositing over a plate. A render
-border renders the border's part of the frame, cropped to it or placed in the frame as Blender does."""
+border renders the border's part of the frame, cropped to it or placed in the frame as Blender does.
+Holdout objects and collections leave a hole (alpha 0) where they are seen, and still cast shadows."""
 import math
 import os
 import unittest
@@ -140,6 +141,66 @@ class RenderBorder(unittest.TestCase):
                     helpers.write_difference(f"border_{method}_{crop}", part, expected)
                 self.assertLess(difference, 0.01, f"{method}, crop {crop}: the border shows the frame's pixels there")
 
+
+class Holdout(unittest.TestCase):
+    """Object > Visibility > Holdout, and a view layer's holdout collection (issue 20, pipeline
+    features): transparent black where the object is seen, with or without Film > Transparent; what
+    is behind it stays hidden, and its shadow stays on the others."""
+
+    def scene(self):
+        import bpy
+        scene = helpers.empty_scene(48, 48)
+        scene.render.engine = "SUBSPLAT"
+        floor_material = bpy.data.materials.new("Skin")
+        floor_material.subsplat.enabled = True
+        floor_material.subsplat.preset = "SKIN1"
+        floor_material.subsplat.mm_per_unit = 30.0
+        helpers.plane(scene, 4.0, floor_material)
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4, location=(0.0, 0.0, 0.6))
+        ball = bpy.context.object
+        ball.name = "Ball"
+        helpers.top_down_camera(scene, ortho_scale=2.0)
+        helpers.add_light(scene, "SUN", rotation=(math.radians(40), 0, 0), energy=3.0, angle=0.0)
+        return scene, ball
+
+    def test_holdout_objects_and_collections_leave_a_hole(self):
+        import bpy
+        scene, ball = self.scene()
+        scene.subsplat.reference_samples = 20000
+        plain = {}
+        for method in ("FULL", "REFERENCE"):
+            scene.subsplat.method = method
+            plain[method] = helpers.render(scene, f"holdout_none_{method}")
+            centre = plain[method][22:26, 22:26].reshape(-1, 4)
+            self.assertTrue(np.all(centre[:, 3] == 1.0) and centre[:, :3].max() > 0.0, "the ball is seen")
+        for how in ("object", "collection"):
+            if how == "object":
+                ball.is_holdout = True
+            else:
+                ball.is_holdout = False
+                held = bpy.data.collections.new("Held")
+                scene.collection.children.link(held)
+                scene.collection.objects.unlink(ball)
+                held.objects.link(ball)
+                bpy.context.view_layer.layer_collection.children["Held"].holdout = True
+            for method in ("FULL", "REFERENCE"):
+                scene.subsplat.method = method
+                for transparent in (False, True):
+                    scene.render.film_transparent = transparent
+                    image = helpers.render(scene, f"holdout_{how}_{method}_{transparent}")
+                    with self.subTest(how=how, method=method, film_transparent=transparent):
+                        hole = image[22:26, 22:26].reshape(-1, 4)
+                        self.assertTrue(np.all(hole == 0.0), f"the ball is a hole: {hole[0]}")
+                        # Everywhere else, the floor as without the holdout: the ball still casts its
+                        # shadow (a sun 40 degrees off, a shadow half a unit away: in the compared part).
+                        floor = image[..., 3] == 1.0
+                        self.assertGreater(int(floor.sum()), 48 * 48 // 2)
+                        shadowed = plain[method][..., :3].sum(axis=-1) < 0.5 * np.median(plain[method][..., :3].sum(axis=-1))
+                        self.assertGreater(int((floor & shadowed).sum()), 20, "the shadow is in the compared part")
+                        np.testing.assert_allclose(image[floor][:, :3], plain[method][floor][:, :3], rtol=1e-4,
+                                                   atol=1e-6)
+            scene.render.film_transparent = False
+        self.assertIsNone(subsplat.last_render_error())
 
 if __name__ == "__main__":
     helpers.run_tests()

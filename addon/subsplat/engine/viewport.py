@@ -50,6 +50,7 @@ class ViewportSession:
     def __init__(self):
         self.context = None
         self.frame = export.Frame()  # the material registry: stable ids, ProfileSets kept alive
+        self.holdouts = set()        # names of the objects last exported as holdouts
         self.objects = {}            # instance key -> [object id, data.Mesh]
         self.free_ids = []
         self.next_id = 0
@@ -111,6 +112,10 @@ class ViewportSession:
 
         seen = set()
         light_descs = []
+        # Holdout objects (their own flag or their collection's): one that changed state is exported again.
+        holdouts = export.holdout_objects(depsgraph)
+        geometry |= holdouts ^ self.holdouts
+        self.holdouts = holdouts
         for instance in depsgraph.object_instances:
             obj = instance.object
             if obj.type == "LIGHT":
@@ -124,7 +129,7 @@ class ViewportSession:
             entry = self.objects.get(key)
             if entry is None or obj.name_full in geometry:
                 known = set(self.frame.materials)
-                exported = mesh.export_mesh(obj, instance.matrix_world, self.frame)
+                exported = mesh.export_mesh(obj, instance.matrix_world, self.frame, obj.original.name_full in holdouts)
                 self.counters.mesh_exports += 1
                 self._send_new_materials(known)
                 if exported is None:

@@ -2,7 +2,9 @@
 settings of one frame, one module each. Nothing here calls the library except to make the profile
 sets of heterogeneous materials (materials.py); native.py turns the data into the C API's structs."""
 from . import camera, data, lights, materials, mesh, settings
-from .data import ExportError
+from .data import ExportError, Material
+
+HOLDOUT_KEY = "\0holdout"  # the registry's key of the material a holdout object's triangles get
 
 
 class Frame:
@@ -26,6 +28,12 @@ class Frame:
             self._describe(key, material, len(self.materials))
         return self.materials[key][0]
 
+    def holdout_id(self):
+        """The id of the HOLDOUT material (a hole in the image) every triangle of a holdout object gets."""
+        if HOLDOUT_KEY not in self.materials:
+            self.materials[HOLDOUT_KEY] = (len(self.materials), Material(kind="HOLDOUT"))
+        return self.materials[HOLDOUT_KEY][0]
+
     def refresh_material(self, material):
         """Describes a material again under its id (the viewport, after an edit): (id, Material),
         or None for a material this frame has not used."""
@@ -46,10 +54,27 @@ class Frame:
             self.mapped.add(key)
 
 
+def holdout_objects(depsgraph):
+    """Names of the objects Blender renders as holdouts: Object Properties > Visibility > Holdout, and
+    the objects of the view layer's holdout collections (and their children)."""
+    names = set()
+
+    def visit(layer_collection, held):
+        held = held or layer_collection.holdout
+        if held:
+            names.update(obj.name_full for obj in layer_collection.collection.objects)
+        for child in layer_collection.children:
+            visit(child, held)
+    visit(depsgraph.view_layer.layer_collection, False)
+    names.update(obj.name_full for obj in depsgraph.scene.objects if getattr(obj, "is_holdout", False))
+    return names
+
+
 def export_frame(depsgraph, width, height):
     """Every visible mesh instance, its materials, the lights and the camera."""
     scene = depsgraph.scene
     frame = Frame()
+    holdouts = holdout_objects(depsgraph)
     frame.origin = camera.camera_origin(scene, depsgraph)
     frame.camera = camera.camera_data(scene, depsgraph, width, height, frame.origin)
     frame.warnings.extend(camera.feature_warnings(scene))
@@ -58,7 +83,7 @@ def export_frame(depsgraph, width, height):
         if obj.type == "LIGHT":
             frame.lights.append(lights.light_data(obj, instance.matrix_world, frame.warnings, frame.origin))
         elif mesh.renders(obj):
-            exported = mesh.export_mesh(obj, instance.matrix_world, frame)
+            exported = mesh.export_mesh(obj, instance.matrix_world, frame, obj.original.name_full in holdouts)
             if exported is not None:
                 frame.meshes.append(exported)
     return frame

@@ -25,7 +25,8 @@ def column_major(matrix, origin=None):
 
 @dataclass
 class Material:
-    """SsMaterialDesc. kind: "OPAQUE", "DIPOLE" or "SUBEDIT" (which has profiles, a native.ProfileSet);
+    """SsMaterialDesc. kind: "OPAQUE", "DIPOLE", "SUBEDIT" (which has profiles, a native.ProfileSet) or
+    "HOLDOUT" (a hole in the image);
     profile_model: "DIPOLE" or "TABULATED" (a DIPOLE kind's)."""
     kind: str
     base_color: Vector3 = ZERO3

@@ -82,9 +82,9 @@ def corner_uvs(mesh):
     return uvs.reshape(-1, 2)
 
 
-def export_mesh(obj, matrix, frame):
+def export_mesh(obj, matrix, frame, holdout=False):
     """One evaluated object as Mesh data, its materials registered in frame (an export.Frame); None
-    when it has no triangles to draw."""
+    when it has no triangles to draw. A holdout object's triangles all get the HOLDOUT material."""
     try:
         mesh = obj.to_mesh()
     except RuntimeError:
@@ -104,8 +104,11 @@ def export_mesh(obj, matrix, frame):
                               f"{tuple(mesh.vertices[vertex].co)}")
         if len(triangles) == 0:
             return None
-        slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \
-            [frame.material_id(None)]
+        if holdout:
+            slot_materials = [frame.holdout_id()]
+        else:
+            slot_materials = [frame.material_id(slot.material) for slot in obj.material_slots] or \
+                [frame.material_id(None)]
         lookup = np.asarray(slot_materials, dtype=np.uint32)
         triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
         uvs = corner_uvs(mesh)

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 12
+#define SS_API_VERSION 13
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -76,7 +76,9 @@ typedef struct SsMeshDesc {
 typedef enum SsMaterialKind {
   SS_MATERIAL_OPAQUE = 0,  /* diffuse + specular, no subsurface transport */
   SS_MATERIAL_DIPOLE = 1,  /* homogeneous dipole (Jensen et al. 2001) */
-  SS_MATERIAL_SUBEDIT = 2  /* heterogeneous: SubEdit profiles mapped by UV (eq. 8, 9) */
+  SS_MATERIAL_SUBEDIT = 2, /* heterogeneous: SubEdit profiles mapped by UV (eq. 8, 9) */
+  SS_MATERIAL_HOLDOUT = 3  /* Blender's holdout: hides what is behind it and casts shadows, but its own
+                            * pixels are transparent black (alpha 0) */
 } SsMaterialKind;
 
 /* DIPOLE materials: the model their profile comes from (docs/TRANSPORT.md, "The TABULATED model"). */

@@ -17,7 +17,9 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     const MaterialEntry& e = materials[i];
     const SsMaterialDesc& d = e.desc;
     MaterialGpu& g = gpu[i];
-    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], isTranslucent(d) ? 1.0f : 0.0f},
+    // w: 1 translucent, 0 opaque, -1 holdout (common.glsl: isTranslucent, isHoldout).
+    float kind = isTranslucent(d) ? 1.0f : d.kind == SS_MATERIAL_HOLDOUT ? -1.0f : 0.0f;
+    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], kind},
                     {d.eta, d.roughness, d.specular, 0.0f},
                     {0, 0, 0, 0},
                     {0, 0, 0, uint32_t(e.base)},

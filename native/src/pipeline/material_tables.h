@@ -12,7 +12,7 @@ namespace subsplat {
 
 // The GPU layout of one entry (common.glsl: Material).
 struct MaterialGpu {
-  float baseColorKind[4];
+  float baseColorKind[4];  // rgb base colour, w: 1 translucent, 0 opaque, -1 holdout
   float optics[4];
   float ranges[4];
   uint32_t profileMap[4];

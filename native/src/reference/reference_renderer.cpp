@@ -33,13 +33,14 @@ struct Profile {
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
   std::vector<std::shared_ptr<const RadialProfile>> tabulated;  // TABULATED: per channel, in mm
   const TransportTables* transport = nullptr;                    // TABULATED
+  bool holdout = false;
   double mmPerUnit = 1.0;
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
   glm::vec3 baseColor{0.0f};
 
   Profile(const MaterialEntry& e, int index)
-      : translucent(isTranslucent(e.desc)), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
+      : translucent(isTranslucent(e.desc)), holdout(e.desc.kind == SS_MATERIAL_HOLDOUT), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
         roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)) {
     const SsMaterialDesc& d = e.desc;
     if (d.kind == SS_MATERIAL_SUBEDIT) {
@@ -513,6 +514,10 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
         if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
         const Profile& profile = profiles[entryAt(m, hit.triangle, w)];
+        if (profile.holdout) {  // a hole in the image, alpha 0 (final_shading.frag)
+          for (int c = 0; c < 4; ++c) out[c] = 0.0f;
+          continue;
+        }
 
         glm::vec3 color(0.0f);
         for (const SsLightDesc& light : lights) {
