@@ -281,8 +281,8 @@ class BadInputTable(unittest.TestCase):
         self.assertFalse(os.path.exists(out + "0002.exr"), "frame 2 is not written")
 
     def test_unrendered_features_are_named_in_warnings(self):
-        """Blender features SubSplat does not render: the render says so (a warning in the output)
-        and still renders (exit 0, an image)."""
+        """Blender features SubSplat does not render (issue 20): the render says so (a warning in
+        the output, naming what and where) and still renders (exit 0, an image)."""
         def motion_blur():
             scene().render.use_motion_blur = True
             sphere()
@@ -293,9 +293,59 @@ class BadInputTable(unittest.TestCase):
             s.camera.data.dof.use_dof = True
             sphere()
 
+        def world_light():
+            s = scene()
+            s.world.name = "Sky"
+            helpers.set_world_colour(s.world, (0.2, 0.3, 0.5))
+            sphere()
+
+        def environment_texture():
+            s = scene()
+            world = s.world
+            world.name = "Studio"
+            world.use_nodes = True
+            nodes = world.node_tree.nodes
+            environment = nodes.new("ShaderNodeTexEnvironment")
+            world.node_tree.links.new(environment.outputs["Color"], nodes["Background"].inputs["Color"])
+            sphere()
+
+        def soft_sun():
+            s = scene(light=False)
+            helpers.add_light(s, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.1)
+            sphere()
+
+        def textured_opaque():
+            scene()
+            material = bpy.data.materials.new("Painted")
+            material.use_nodes = True
+            nodes = material.node_tree.nodes
+            texture = nodes.new("ShaderNodeTexImage")
+            material.node_tree.links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+            sphere(material)
+
+        def normal_map():
+            scene()
+            material = skin("Bumpy")
+            material.use_nodes = True
+            nodes = material.node_tree.nodes
+            normal = nodes.new("ShaderNodeNormalMap")
+            material.node_tree.links.new(normal.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
+            sphere(material)
+
         for name, build, text in (("motion_blur", motion_blur, "Warning: SubSplat: motion blur is on"),
                                   ("depth_of_field", depth_of_field,
-                                   "Warning: SubSplat: camera 'Focused' has depth of field on")):
+                                   "Warning: SubSplat: camera 'Focused' has depth of field on"),
+                                  ("world_light", world_light,
+                                   "Warning: SubSplat: world 'Sky': SubSplat does not light with the world"),
+                                  ("environment_texture", environment_texture,
+                                   "Warning: SubSplat: world 'Studio': its Background colour is connected to a "
+                                   "Environment Texture node"),
+                                  ("soft_sun", soft_sun, "its angle (0.1) is rendered as 0: hard shadows"),
+                                  ("textured_opaque", textured_opaque,
+                                   "Warning: SubSplat: material 'Painted': Base Color is connected to a Image "
+                                   "Texture node, which SubSplat does not read"),
+                                  ("normal_map", normal_map,
+                                   "Warning: SubSplat: material 'Bumpy': Normal is connected to a Normal Map node")):
             with self.subTest(case=name):
                 build()
                 status, output, pixels = batch_render(name)

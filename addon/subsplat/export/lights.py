@@ -20,4 +20,8 @@ def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
         data.spot_blend = light.spot_blend
     elif light.type == "AREA":
         warnings.append(f"light '{obj.name}': area lights are rendered as point lights")
+    soft = light.angle if light.type == "SUN" else getattr(light, "shadow_soft_size", 0.0)
+    if light.type != "AREA" and soft > 0.0:
+        size = "angle" if light.type == "SUN" else "radius"
+        warnings.append(f"light '{obj.name}': its {size} ({soft:.3g}) is rendered as 0: hard shadows")
     return data

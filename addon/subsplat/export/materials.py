@@ -151,6 +151,21 @@ def material_profiles(material):
 DEFAULT_MATERIAL = Material(kind="OPAQUE", base_color=(0.8, 0.8, 0.8), roughness=0.5, specular=0.5)
 
 
+def unread_inputs(material, node, names, warnings):
+    """Warns, one line a socket, of the Principled BSDF's inputs among `names` that are connected to
+    a node SubSplat does not read (a texture into Base Color, a normal map): they render as the
+    socket's own value, or not at all, and the artist is told."""
+    if node is None or warnings is None:
+        return
+    for name in names:
+        socket = node.inputs.get(name)
+        if socket is not None and socket.is_linked:
+            source = socket.links[0].from_node
+            what = "its own value" if name != "Normal" else "the mesh's shading normal"
+            warnings.append(f"material '{material.name}': {name} is connected to a {source.bl_label} node, "
+                            f"which SubSplat does not read; it renders {what}")
+
+
 def material_data(material, warnings=None):
     """The Material data of a Blender material (None: the default grey).
 
@@ -183,9 +198,14 @@ def material_data(material, warnings=None):
         if profiles is not None:
             data.kind = "SUBEDIT"
             data.profiles = profiles
+        if settings.source != "PRINCIPLED":  # the BSDF's colour is not this source's: say what is unused
+            unread_inputs(material, principled_node(material), ("Base Color", "Normal"), warnings)
+        else:
+            unread_inputs(material, principled_node(material), ("Normal",), warnings)
         return data
     node = principled_node(material)
     if node is not None:
+        unread_inputs(material, node, ("Base Color", "Roughness", version.PRINCIPLED_SPECULAR, "Normal"), warnings)
         return Material(kind="OPAQUE", base_color=tuple(node.inputs["Base Color"].default_value[:3]),
                         roughness=node.inputs["Roughness"].default_value,
                         specular=min(max(node.inputs[version.PRINCIPLED_SPECULAR].default_value, 0.0), 1.0))

@@ -41,3 +41,28 @@ def background(scene):
             strength = node.inputs["Strength"].default_value
             return (color[0] * strength, color[1] * strength, color[2] * strength, 1.0)
     return (*world.color, 1.0)
+
+
+def world_warnings(scene):
+    """The world lights nothing in SubSplat (its colour is the background only): said when the world
+    would light the scene, and when an environment texture would be its background."""
+    world = scene.world
+    if world is None:
+        return []
+    warnings = []
+    if version.uses_nodes(world):
+        node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+        if node is None:
+            return []
+        colour, strength = node.inputs["Color"], node.inputs["Strength"]
+        if colour.is_linked:
+            warnings.append(f"world '{world.name}': its Background colour is connected to a "
+                            f"{colour.links[0].from_node.bl_label} node, which SubSplat neither shows nor lights with; "
+                            "the background is the socket's own colour")
+        lit = colour.is_linked or strength.is_linked or max(colour.default_value[:3]) * strength.default_value > 0.0
+    else:
+        lit = max(world.color) > 0.0
+    if lit:
+        warnings.append(f"world '{world.name}': SubSplat does not light with the world (only the scene's lights): "
+                        "objects get no world light")
+    return warnings
