@@ -43,15 +43,33 @@ def total_reflectance(reduced_albedo, eta, profile_model="DIPOLE"):
     return native.total_reflectance(profile_model, reduced_albedo, eta)
 
 
+INVERSION_NODES = 4096  # nodes of the total's inverse, uniform in s = sqrt(1 - alpha') (reduced_albedo)
+_inverses = {}
+
+
+def _inverse_nodes(eta, profile_model):
+    """(totals, s) of the model at INVERSION_NODES + 1 values of s = sqrt(1 - alpha') from
+    sqrt(1 - MAX_REDUCED_ALBEDO) to 1, totals rising: one call to the library per (eta, model)."""
+    key = (float(eta), profile_model)
+    if key not in _inverses:
+        s = np.linspace(np.sqrt(1.0 - MAX_REDUCED_ALBEDO), 1.0, INVERSION_NODES + 1)[::-1]
+        totals = total_reflectance(1.0 - s * s, eta, profile_model)
+        if len(_inverses) > 64:
+            _inverses.clear()
+        _inverses[key] = (totals, s)
+    return _inverses[key]
+
+
 def reduced_albedo(total, eta, profile_model="DIPOLE"):
-    """The alpha' whose total reflectance is the given albedo (bisection; the total rises with alpha')."""
+    """The alpha' whose total reflectance is the given albedo, for an array of any size at once: the
+    total rises with alpha', and s = sqrt(1 - alpha') is nearly linear in it (1 - total is about
+    H(1) s near alpha' = 1), so s is interpolated between the model's totals at nodes uniform in s
+    (4097 of them: the albedo comes back within 1e-6 of itself, test_principled's conversion tests);
+    a texture of a million texels converts in well under a second. Clipped to [0, MAX_REDUCED_ALBEDO]."""
     target = np.asarray(total, dtype=np.float64)
-    lo, hi = np.zeros_like(target), np.full_like(target, MAX_REDUCED_ALBEDO)
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        below = total_reflectance(mid, eta, profile_model) < target
-        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
-    return 0.5 * (lo + hi)
+    totals, s = _inverse_nodes(eta, profile_model)
+    root = np.interp(target, totals, s)  # beyond the ends: the ends (alpha' 0 and MAX_REDUCED_ALBEDO)
+    return 1.0 - root * root
 
 
 def coefficients(albedo, mean_free_path_mm, eta, profile_model="DIPOLE"):

@@ -48,7 +48,7 @@ class Tabulated : public ::testing::Test {
     SsSettings settings = ssDefaultSettings();
     settings.method = method;
     settings.irradiance_resolution = resolution;
-    settings.reference_samples = 100000;
+    settings.reference_samples = 40000;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     Image image{size, std::vector<float>(size_t(size) * size * 4)};
     EXPECT_EQ(ssRender(context, size, size, image.rgba.data()), SS_OK) << ssGetLastError();
@@ -90,7 +90,7 @@ TEST_F(Tabulated, SlabUnderASunIsTheExactHalfSpaceRadiance) {
       ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
       double mu0 = std::cos(incidence * M_PI / 180.0);
       for (int method : {SS_METHOD_BRUTE, SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
-        Image image = render(method, 48);
+        Image image = render(method, 24);
         for (int c = 0; c < 3; ++c) {
           HFunction h(albedo(m, c));
           double exact = 3.0 * mu0 * halfSpaceReflectedRadiance(h, mu0, 1.0);
@@ -113,7 +113,7 @@ TEST_F(Tabulated, LightThroughAThinSlabIsTheSlabsTransmission) {
     SsLightDesc sun = testing::sunLight(3.0f, 180.0f);  // from below
     ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
     for (int method : {SS_METHOD_BRUTE, SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
-      Image image = render(method, 32);
+      Image image = render(method, 16);
       for (int c = 0; c < 3; ++c) {
         double t = thickness * 20.0 * (m.sigma_a[c] + m.sigma_s_prime[c]);
         SlabSolution s = solveSlabByAddingDoubling(albedo(m, c), t, 1.0);
@@ -139,7 +139,7 @@ TEST_F(Tabulated, ObliqueLightThroughAThinSlabIsTheSlabsTransmission) {
     SsLightDesc sun = testing::sunLight(3.0f, 120.0f);  // from below, 60 degrees off the axis
     ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
     for (int method : {SS_METHOD_BRUTE, SS_METHOD_REFERENCE}) {
-      Image image = render(method, 32);
+      Image image = render(method, 16);
       for (int c = 0; c < 3; ++c) {
         double t = thickness * 20.0 * (m.sigma_a[c] + m.sigma_s_prime[c]);
         SlabSolution s = solveSlabByAddingDoubling(albedo(m, c), t, mu0);

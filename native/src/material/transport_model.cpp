@@ -96,11 +96,45 @@ double cosineCoordinate(double mu) {
   return std::clamp(std::sqrt(std::clamp(mu, 0.0, 1.0)) * n - 1.0, 0.0, n - 1.0);
 }
 
+// R(1) = 1 - sqrt(1 - a) H(1) at the nodes s = sqrt(1 - a) = k / kAlbedoNodes, solved once (an
+// H-function a node, about 1 ms each: a texture of 65 000 texels asked for its media's totals, 50
+// times over by the Principled conversion's bisection, would otherwise solve millions).
+constexpr int kAlbedoNodes = 256;
+const std::vector<double>& normalIncidenceAlbedoNodes() {
+  static const std::vector<double> nodes = [] {
+    std::vector<double> r(kAlbedoNodes + 1);
+    for (int k = 0; k <= kAlbedoNodes; ++k) {
+      double s = double(k) / kAlbedoNodes, a = 1.0 - s * s;
+      r[size_t(k)] = a > 0.0 ? halfSpaceAlbedo(HFunction(hAlbedo(a)), 1.0) : 0.0;
+    }
+    return r;
+  }();
+  return nodes;
+}
+
 }  // namespace
+
+double halfSpaceAlbedoAtNormalIncidence(double albedo) {
+  if (!(albedo > 0.0)) return 0.0;
+  if (albedo >= 1.0) return 1.0;
+  // Cubic (Lagrange) through the 4 nodes around s: R is smooth in s (R = 1 - H(1) s + O(s^2) at 1,
+  // a (1 - ln 2) / 2 + O(a^2) at 0).
+  const std::vector<double>& r = normalIncidenceAlbedoNodes();
+  double x = std::sqrt(1.0 - albedo) * kAlbedoNodes;
+  int first = std::clamp(int(std::floor(x)) - 1, 0, kAlbedoNodes - 3);
+  double sum = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    double w = 1.0;
+    for (int j = 0; j < 4; ++j)
+      if (j != i) w *= (x - (first + j)) / double(i - j);
+    sum += w * r[size_t(first + i)];
+  }
+  return std::clamp(sum, 0.0, 1.0);
+}
 
 double tabulatedTotalReflectance(double albedo, double eta) {
   if (!(albedo > 0.0)) return 0.0;
-  double total = halfSpaceAlbedo(HFunction(hAlbedo(albedo)), 1.0);
+  double total = halfSpaceAlbedoAtNormalIncidence(albedo);
   double plain = dipoleTotalReflectance(albedo, 1.0);
   return plain > 0.0 ? total * dipoleTotalReflectance(albedo, eta) / plain : total;
 }
@@ -141,12 +175,26 @@ TabulatedProfile::TabulatedProfile(const DipoleChannel& c) {
   double norm = cumulative_.back();
   for (double& v : shape_) v /= norm;
   for (double& v : cumulative_) v /= norm;
+  for (size_t k = 0; k < knots; ++k) {
+    lnRho_.push_back(std::log(rho_[k]));
+    lnShape_.push_back(std::log(shape_[k]));
+  }
+  lnStep_ = knots > 2 ? (lnRho_.back() - lnRho_[1]) / double(knots - 2) : 1.0;
+}
+
+size_t TabulatedProfile::segmentOf(double rho, double lnRho) const {
+  // rho_[0] < rho < rho_.back() (lnRho its logarithm): the segment [rho_k, rho_k+1) holding it.
+  if (rho < rho_[1]) return 0;
+  size_t k = std::min(size_t(1.0 + (lnRho - lnRho_[1]) / lnStep_), rho_.size() - 2);
+  while (k > 1 && rho < rho_[k]) --k;  // rounding at a knot
+  while (k + 2 < rho_.size() && rho >= rho_[k + 1]) ++k;
+  return k;
 }
 
 double TabulatedProfile::shapeEnergyWithin(double rho) const {
   if (rho <= rho_[0]) return M_PI * rho * rho * shape_[0];
   if (rho >= rho_.back()) return 1.0;
-  size_t k = size_t(std::upper_bound(rho_.begin(), rho_.end(), rho) - rho_.begin()) - 1;
+  size_t k = segmentOf(rho, std::log(rho));
   return cumulative_[k] + powerLawEnergy(rho_[k], shape_[k], power_[k], rho);
 }
 
@@ -158,8 +206,9 @@ double TabulatedProfile::value(double r) const {
   } else if (rho >= rho_.back()) {
     s = 0.0;
   } else {
-    size_t k = size_t(std::upper_bound(rho_.begin(), rho_.end(), rho) - rho_.begin()) - 1;
-    s = shape_[k] * std::pow(rho / rho_[k], power_[k]);
+    double lnRho = std::log(rho);
+    size_t k = segmentOf(rho, lnRho);
+    s = std::exp(lnShape_[k] + power_[k] * (lnRho - lnRho_[k]));  // S_k (rho / rho_k)^p_k
   }
   return total_ * s * sigmaT_ * sigmaT_;
 }

@@ -41,6 +41,10 @@ enum ProfileModel : int { kProfileDipole = 0, kProfileTabulated = 1 };
 inline double mediumAlbedo(const DipoleChannel& c) { return c.sigmaSPrime / (c.sigmaA + c.sigmaSPrime); }
 inline double mediumExtinction(const DipoleChannel& c) { return c.sigmaA + c.sigmaSPrime; }
 
+// R(1) = 1 - sqrt(1 - a) H(1), the half-space's albedo under a normal beam, for a in [0, 1]: cubic
+// between 257 nodes in sqrt(1 - a) solved once, within 3e-9 (and 2e-7 of itself) of the
+// H-function's (TabulatedModel.NormalIncidenceAlbedoIsTheHFunctions).
+double halfSpaceAlbedoAtNormalIncidence(double albedo);
 // The total the TABULATED profile carries at normal incidence: R(1) of the half-space, times the
 // boundary factor for eta > 1. The add-on's Principled conversion inverts it (ssTotalReflectance).
 double tabulatedTotalReflectance(double albedo, double eta);
@@ -64,6 +68,11 @@ class TabulatedProfile final : public RadialProfile {
   // The shape S(rho) (rho in mean free paths, integral of S 2 pi rho drho = 1): constant below
   // rho_0, a power law between knots, 0 beyond the last. cumulative_[k]: the integral to rho_k.
   std::vector<double> rho_, shape_, power_, cumulative_;
+  // ln rho_k and ln S_k; from knot 1 on the knots are geometric (the table's bins), so the segment
+  // of a radius is found from its logarithm (REFERENCE evaluates P some 10^8 times a frame).
+  std::vector<double> lnRho_, lnShape_;
+  double lnStep_ = 1.0;
+  size_t segmentOf(double rho, double lnRho) const;
   double shapeEnergyWithin(double rho) const;
 };
 
