@@ -126,12 +126,12 @@ class StabilityBounds(unittest.TestCase):
                     self.assertLess(difference, 0.005, f"{method} at {label} against x1")
 
     def test_far_from_the_origin_renders_the_image_at_the_origin(self):
-        """The same scene 1e4 and 1e7 units from Blender's origin (issue 20, extremes): the library
+        """The same scene 1e7 units from Blender's origin (issue 20, extremes): the library
         works in single-precision floats, so the add-on sends the world relative to the camera
         (export.Frame.origin); before, at 1e7 the image came out wrong (mean radiance 9 x)."""
         import bpy
         images = {}
-        for offset in (0.0, 1e4, 1e7):
+        for offset in (0.0, 1e7):
             scene = helpers.empty_scene(32, 24)
             scene.render.engine = "SUBSPLAT"
             helpers.top_down_camera(scene, ortho_scale=3.0).location = (offset, offset, 5.0)
@@ -143,7 +143,7 @@ class StabilityBounds(unittest.TestCase):
             for method in ("REFERENCE", "FULL"):
                 images[offset, method] = accuracy.render_passes(scene, method, 20000)[0]
             bpy.data.materials.remove(material)
-        for offset in (1e4, 1e7):
+        for offset in (1e7,):
             for method in ("REFERENCE", "FULL"):
                 ours, there = images[offset, method], images[0.0, method]
                 difference = float(np.abs(ours[..., :3] - there[..., :3]).mean() / np.abs(there[..., :3]).mean())
