@@ -71,6 +71,7 @@ class TabulatedProfile final : public RadialProfile {
   // ln rho_k and ln S_k; from knot 1 on the knots are geometric (the table's bins), so the segment
   // of a radius is found from its logarithm (REFERENCE evaluates P some 10^8 times a frame).
   std::vector<double> lnRho_, lnShape_;
+  std::vector<double> segmentEnergy_;  // 2 pi S_k rho_k^2
   double lnStep_ = 1.0;
   size_t segmentOf(double rho, double lnRho) const;
   double shapeEnergyWithin(double rho) const;

@@ -83,11 +83,11 @@ TEST_F(Reference, PlaneExitanceWithinOnePercentOfDipoleTotalReflectance) {
   }
 }
 
-// Error against a 16x denser reference falls with every doubling of samples.
+// Error against an 8x denser reference falls with every doubling of samples.
 TEST_F(Reference, ConvergesAsSamplesIncrease) {
   sphereScene();
-  const int size = 40;
-  std::vector<float> truth = render(size, size, 640000);
+  const int size = 32;
+  std::vector<float> truth = render(size, size, 320000);
   double previous = 1e30;
   for (uint32_t samples : {5000u, 10000u, 20000u, 40000u}) {
     double error = relativeRmse(render(size, size, samples), truth);
