@@ -7,6 +7,7 @@ sizeof and offsetof (ssGetStructLayout).
 """
 import ctypes
 import os
+import sys
 import threading
 
 import numpy as np
@@ -171,9 +172,16 @@ def preload():
     (dlopen of the library, OpenImageIO, Embree, ...) takes 0.1 to 0.4 s, and ctypes releases the GIL
     while it runs. Left to the material panel's first draw, a read-only callback, that was the window
     in which a preview render thread's callback started and left Blender's "may not write" flag set
-    (docs/DECISIONS.md, "The GIL")."""
+    (docs/DECISIONS.md, "The GIL").
+
+    It also makes the TABULATED model's tables, which the library makes once on first use (about
+    0.3 s, mostly 257 H-function solves): in the material panel's first draw that call kept the GIL
+    (ctypes.PyDLL) so long that a waiting preview thread was handed the GIL in the middle of the draw
+    as soon as it returned, with the same result (half of bench/preview_write_flag.py's runs beside
+    two busy processes, always at the first edit)."""
     try:
         library()
+        total_reflectance("TABULATED", np.array([0.5]), 1.0)
     except SubsplatError:
         pass
 
