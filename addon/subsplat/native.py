@@ -7,7 +7,6 @@ sizeof and offsetof (ssGetStructLayout).
 """
 import ctypes
 import os
-import sys
 import threading
 
 import numpy as np
