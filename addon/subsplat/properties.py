@@ -73,6 +73,11 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     lambda_m: FloatProperty(
         name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
         description="Multiresolution: lambda_m of eq. 17 (per millimetre of R_P difference); how strongly upsampling avoids material boundaries")
+    world_directions: IntProperty(
+        name="World Directions", default=0, min=-1, max=64,
+        description="The world's light: the directions it casts shadows from (each costs about what a sun "
+                    "costs). 0 chooses from the world's share of the scene's light: unshadowed below 10 %, "
+                    "8 below 50 %, else 16; -1 lights every surface unshadowed (no occlusion, no cost)")
     viewport_scale: EnumProperty(
         name="Viewport Resolution", default="1",
         items=[("1", "Full", "The viewport renders one pixel per screen pixel"),

@@ -32,6 +32,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         settings = context.scene.subsplat
         layout.prop(settings, "method")
         layout.prop(settings, "viewport_scale")
+        layout.prop(settings, "world_directions")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
             layout.prop(settings, "scene_file")

@@ -10,6 +10,7 @@ struct Material {
   uvec4 profileMap;    // heterogeneous: offset into profileMaps, width, height (0: none); the material's first entry
   vec4 medium;         // TABULATED model: rgb single-scattering albedo, w its transport layer (-1: none)
   vec4 extinction;     // TABULATED model: rgb sigma_t per scene unit
+  vec4 world;          // translucent: rgb the response to the unshadowed world (world_light.h)
 };
 layout(std430, binding = STORAGE_MATERIALS) readonly buffer Materials { Material materials[]; };
 
@@ -142,6 +143,18 @@ uniform vec3 lightDirection;  // direction the light travels (spot axis, sun)
 uniform vec3 lightRadiant;    // colour x (intensity W/sr | sun irradiance W/m^2)
 uniform int lightType;        // LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN (gl/bindings.h)
 uniform float lightCosHalfSpot, lightSpotSmooth;
+// One of the world's shadowed directions (world_light.h): the whole set, for D(n); 0 otherwise.
+uniform int worldDirectionCount;
+uniform vec3 worldDirections[64];
+
+// The irradiance at a surface of normal n over what a surface facing the light gets times
+// max(0, n . L): pi / D(n) for a world direction, 1 for every other light.
+float lightWeight(vec3 n) {
+  if (worldDirectionCount == 0) return 1.0;
+  float d = 0.0;
+  for (int j = 0; j < worldDirectionCount; ++j) d += max(dot(n, worldDirections[j]), 0.0);
+  return PI / max(d, 1e-3);
+}
 
 // Direction towards the light and the irradiance a surface facing it gets.
 vec3 towardsLight(vec3 p) {

@@ -34,7 +34,7 @@ vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t) {
   float mu0 = clamp(dot(ne.xyz, towardsLight(pe.xyz)), 0.0, 1.0);
   float thickness = max(depth - texelFetch(irradianceLightDepth, t, 0).r, 0.0) * mu0;  // along the entry's normal
   float mu = clamp(dot(n, V), 0.0, 1.0);
-  vec3 entering = irradianceFacingLight(pe.xyz) * mu0 * fresnelTransmittance(materials[m].optics.x, mu0);
+  vec3 entering = irradianceFacingLight(pe.xyz) * mu0 * lightWeight(ne.xyz) * fresnelTransmittance(materials[m].optics.x, mu0);
   return entering * transmittedRadiance(m, thickness * materials[m].extinction.rgb, mu0, mu) *
          fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
 }
@@ -82,14 +82,15 @@ void main() {
     return;
   }
 
-  vec3 E = irradianceFacingLight(p) * nl * visibility;
+  vec3 E = irradianceFacingLight(p) * nl * visibility * lightWeight(n);
   float nv = max(dot(n, V), 1e-4);
   vec3 H = normalize(L + V);
   float roughness = clamp(materials[m].optics.y, 0.02, 1.0);
   float alpha2 = pow(roughness, 4.0);
   float f0 = 0.08 * materials[m].optics.z;
   float fresnel = f0 + (1.0 - f0) * pow(1.0 - max(dot(H, V), 0.0), 5.0);
-  float specular = f0 > 0.0 ? ggx(max(dot(n, H), 0.0), alpha2) * smithG1(nl, alpha2) *
+  // The world's specular reflection is final_shading.frag's, not K highlights (world_light.h).
+  float specular = f0 > 0.0 && worldDirectionCount == 0 ? ggx(max(dot(n, H), 0.0), alpha2) * smithG1(nl, alpha2) *
                                   smithG1(nv, alpha2) * fresnel / (4.0 * nl * nv)
                             : 0.0;
   vec3 diffuse = isTranslucent(m) ? vec3(0.0) : materials[m].baseColorKind.rgb / PI;

@@ -8,6 +8,18 @@ uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;
 uniform vec4 background;
+// The world (world_light.h): its radiance, for its specular reflection, and the radiance that
+// lights every surface unshadowed (0 when the world is drawn as shadowed directions).
+uniform vec3 worldRadiance;
+uniform vec3 worldUnshadowed;
+// The GGX lobe's directional albedo (world_light.cpp: specularAlbedo, Karis 2014).
+float specularAlbedo(float roughness, float specular, float cosView) {
+  float f0 = 0.08 * specular;
+  if (f0 <= 0.0) return 0.0;
+  vec4 c = clamp(roughness, 0.02, 1.0) * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);
+  float a004 = min(c.x * c.x, exp2(-9.28 * clamp(cosView, 0.0, 1.0))) * c.x + c.y;
+  return f0 * (-1.04 * a004 + c.z) + (1.04 * a004 + c.w);
+}
 layout(location = 0) out vec4 color;
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -17,9 +29,11 @@ void main() {
   int m = int(nm.w);
   if (isHoldout(m)) { color = vec4(0.0); return; }  // a hole in the image, alpha 0
   vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
+  vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
+  float mu = dot(normalize(nm.xyz), V);
+  L += worldRadiance * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
+  if (!isTranslucent(m)) L += worldUnshadowed * materials[m].baseColorKind.rgb;
   if (isTranslucent(m)) {
-    vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
-    float mu = dot(normalize(nm.xyz), V);
     float ft = fresnelTransmittance(materials[m].optics.x, mu);
     vec4 b = texelFetch(exitanceBuffer, pixel, 0);
     // TABULATED: the half-space's exit factor for the light's mean incidence cosine here.
@@ -27,6 +41,10 @@ void main() {
     float sum = b.r + b.g + b.b;
     if (isTabulated(m) && sum > 0.0) exitFactorHere = exitFactor(m, b.a / sum, mu);
     L += ft / PI * b.rgb * exitFactorHere;
+    vec3 world = worldUnshadowed * materials[m].world.rgb * ft;
+    if (isTabulated(m))  // the half-space under uniform light: L (1 - sqrt(1 - a) H(mu))
+      world *= 1.0 - sqrt(max(1.0 - materials[m].medium.rgb, 0.0)) * hFunction(m, mu);
+    L += world;
   }
   color = vec4(L, 1.0);
 }

@@ -70,7 +70,7 @@ void main() {
     lightDepth = sqrt(distance2);
   }
   if (isTranslucent(material)) {
-    flux *= fresnelTransmittance(materials[material].optics.x, cosShading);
+    flux *= fresnelTransmittance(materials[material].optics.x, cosShading) * lightWeight(n);
   } else {
     material = -1;
     flux = vec3(0.0);

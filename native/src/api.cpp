@@ -210,6 +210,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsLightDesc, direction),
     SS_FIELD(SsLightDesc, spot_size),
     SS_FIELD(SsLightDesc, spot_blend),
+    SS_FIELD(SsLightDesc, world_directions),
     SS_STRUCT(SsCameraDesc),
     SS_FIELD(SsCameraDesc, world_to_view),
     SS_FIELD(SsCameraDesc, view_to_clip),

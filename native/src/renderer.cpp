@@ -9,6 +9,7 @@
 
 #include "pipeline/auto_quality.h"
 #include "util/error.h"
+#include "world_light.h"
 
 namespace subsplat {
 
@@ -155,8 +156,10 @@ void Renderer::render(int width, int height, float* rgba) {
   double coarsest = lightTexel(scene_, translucent, resolution, false);
   stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange(scene_) / coarsest) : 0.0f;
   int res = irradiance_.resolution();
-  for (const SsLightDesc& light : scene_.lights()) {
-    for (const LightView& view : lightViews(light, translucent, all, res)) {
+  RenderLights lights = renderLights(scene_);
+  for (size_t i = 0; i < lights.lights.size(); ++i) {
+    for (LightView view : lightViews(lights.lights[i], translucent, all, res)) {
+      if (lights.world[i]) view.worldDirections = &lights.worldDirections;
       profiler.begin(SS_STAGE_BUFFERS);
       irradiance_.render(scene_, gpuScene_, view);
       if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
@@ -176,7 +179,8 @@ void Renderer::render(int width, int height, float* rgba) {
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
   profiler.begin(SS_STAGE_SHADING);
-  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background);
+  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background,
+                        lights.worldRadiance, lights.unshadowed);
   profiler.end();
 
   profiler.begin(SS_STAGE_READBACK);

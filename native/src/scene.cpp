@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "util/error.h"
+#include "world_light.h"
 
 namespace subsplat {
 
@@ -192,17 +193,25 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
   require(count == 0 || lights != nullptr, "lights is NULL with a count of " + std::to_string(count));
   require(count <= 256, "at most 256 lights are supported, got " + std::to_string(count));
   std::vector<SsLightDesc> list(lights, lights + count);
+  int worlds = 0;
   for (uint32_t i = 0; i < count; ++i) {
     const SsLightDesc& l = list[i];
     std::string name = "light " + std::to_string(i);
-    require(l.type == SS_LIGHT_POINT || l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN,
+    require(l.type == SS_LIGHT_POINT || l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN ||
+                l.type == SS_LIGHT_WORLD,
             name + ": unknown type " + std::to_string(l.type));
+    if (l.type == SS_LIGHT_WORLD) {
+      require(++worlds == 1, name + ": a second world light (at most one)");
+      require(l.world_directions >= -1 && l.world_directions <= kMaxWorldDirections,
+              name + ": world directions must be -1 (unshadowed), 0 (automatic) or in [1, " +
+                  std::to_string(kMaxWorldDirections) + "], got " + std::to_string(l.world_directions));
+    }
     require(finite(l.color, 3) && finite(l.position, 3) && finite(l.direction, 3) &&
                 std::isfinite(l.strength) && std::isfinite(l.spot_size) && std::isfinite(l.spot_blend),
             name + ": non-finite parameter");
     require(l.strength >= 0 && l.color[0] >= 0 && l.color[1] >= 0 && l.color[2] >= 0,
             name + ": negative strength or colour");
-    if (l.type != SS_LIGHT_POINT)
+    if (l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN)
       require(glm::length(glm::make_vec3(l.direction)) > 1e-12f, name + ": zero direction");
     if (l.type == SS_LIGHT_SPOT)
       require(l.spot_size > 0 && l.spot_size <= float(M_PI) && l.spot_blend >= 0 && l.spot_blend <= 1,

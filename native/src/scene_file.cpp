@@ -18,9 +18,10 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 3;
+constexpr uint32_t kFormatVersion = 4;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
-// and 2 have a shorter material record (no profile_model: the dipole).
+// and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
+// light record (no world_directions: there was no world light).
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
@@ -32,9 +33,11 @@ constexpr uint32_t kMeshHasUvs = 1;
 // then for SUBEDIT the profile set: n, r_s, palette and map.
 constexpr size_t kMaterialBytes = 15 * 4;
 constexpr size_t kMaterialBytesV2 = 14 * 4;
+constexpr size_t kLightBytes = 14 * 4, kLightBytesV3 = 13 * 4;
 static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
-                  offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == 13 * 4 &&
+                  offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&
+                  offsetof(SsLightDesc, world_directions) == kLightBytesV3 &&
                   sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 15 * 4 &&
                   offsetof(SsSettings, target_error) == kSettingsBytesV1,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
@@ -189,7 +192,13 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
         break;
       case kLights: {
         uint32_t count = r.get<uint32_t>();
-        std::vector<SsLightDesc> lights = r.getArray<SsLightDesc>(count);
+        std::vector<SsLightDesc> lights(count, SsLightDesc{});
+        size_t bytes = version >= 4 ? kLightBytes : kLightBytesV3;
+        require(count <= r.remaining() / bytes, r.what() + ": truncated (" + std::to_string(count) + " lights announced)");
+        for (SsLightDesc& light : lights) {
+          std::vector<char> record = r.getArray<char>(bytes);
+          std::memcpy(&light, record.data(), bytes);
+        }
         scene.setLights(lights.data(), count);
         break;
       }

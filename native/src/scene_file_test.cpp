@@ -165,8 +165,8 @@ TEST_F(SceneFile, DamagedFilesAreRejectedAndLeaveTheSceneEmpty) {
   EXPECT_NE(std::string(ssGetLastError()).find("is not a subsplat scene file"), std::string::npos);
 }
 
-// Format 1 (before SsSettings.target_error) still loads: its shorter settings record takes the
-// default target.
+// Format 1 (before SsSettings.target_error, SsMaterialDesc.profile_model and
+// SsLightDesc.world_directions) still loads: its shorter settings record takes the default target.
 TEST_F(SceneFile, FormatOneFilesStillLoad) {
   SsMaterialDesc opaque{};
   opaque.kind = SS_MATERIAL_OPAQUE;
@@ -192,6 +192,18 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
       std::memcpy(&bytes[at + 8], &shorter, 8);
       size_t field = at + 16 + 4 + offsetof(SsMaterialDesc, profile_model);
       bytes.erase(bytes.begin() + std::ptrdiff_t(field), bytes.begin() + std::ptrdiff_t(field + 4));
+      size = shorter;
+    }
+    if (tag == 3) {  // lights: drop world_directions, the last field of each
+      uint32_t count;
+      std::memcpy(&count, &bytes[at + 16], 4);
+      ASSERT_EQ(size, 4 + count * sizeof(SsLightDesc));
+      for (uint32_t i = count; i-- > 0;) {
+        size_t end = at + 16 + 4 + (i + 1) * sizeof(SsLightDesc);
+        bytes.erase(bytes.begin() + std::ptrdiff_t(end - 4), bytes.begin() + std::ptrdiff_t(end));
+      }
+      uint64_t shorter = size - 4 * count;
+      std::memcpy(&bytes[at + 8], &shorter, 8);
       size = shorter;
     }
     if (tag == 5) {  // settings: drop target_error, the last field

@@ -309,8 +309,8 @@ class BadInputTable(unittest.TestCase):
         self.assertIsNotNone(pixels, "no image written")
         for text in ("Warning: SubSplat: motion blur is on",
                      "Warning: SubSplat: camera 'Focused' has depth of field on",
-                     "Warning: SubSplat: world 'Studio': its Background colour is connected to a Environment Texture node",
-                     "Warning: SubSplat: world 'Studio': SubSplat does not light with the world",
+                     "Warning: SubSplat: world 'Studio': its Background colour is connected to a Environment Texture "
+                     "node, which SubSplat does not render; the world lights the scene with the socket's own colour",
                      "its angle (0.1) is rendered as 0: hard shadows",
                      "Warning: SubSplat: material 'Painted': Base Color is connected to a Image Texture node, which "
                      "SubSplat does not read",

@@ -20,7 +20,8 @@ Kinds of case, and what is measured over which pixels:
   the ratio of the means over the lit (x > 0) and shadowed (x < 0) halves.
 - "example": an example scene with every translucent material at eta = 1 and specular 0, its open
   meshes closed (holes filled: the inside of the medium must be defined for the twin), its world black
-  (SubSplat does not light with the world yet). Pixels that REFERENCE's exitance pass marks
+  (the committed truths measure the translucency under the lights; the world light, docs/WORLD.md,
+  is measured on its own). Pixels that REFERENCE's exitance pass marks
   translucent. An example whose materials the twin cannot convert (SubEdit files) is not measured.
 """
 import math

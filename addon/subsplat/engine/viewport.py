@@ -65,6 +65,7 @@ class ViewportSession:
         self.pending_removals = set()
         self.pending_lights = None
         self.pending_settings = None
+        self.world = None  # the world light last sent (export.data.Light), or None
 
     # -- updates -----------------------------------------------------------------------------
 
@@ -146,8 +147,12 @@ class ViewportSession:
                 self._upload(entry)
         for key in set(self.objects) - seen:
             self._remove(key)
+        world = settings.world_light(depsgraph.scene, [])  # the world, or its world_directions, edited
+        if world != self.world:
+            self.world, lights_changed = world, True
         if lights_changed:
-            self.pending_lights = light_descs
+            settings.world_light(depsgraph.scene, self.frame.warnings)
+            self.pending_lights = light_descs + ([world] if world is not None else [])
             self.counters.light_exports += 1
 
         scene = depsgraph.scene

@@ -78,7 +78,9 @@ def export_frame(depsgraph, width, height):
     frame.origin = camera.camera_origin(scene, depsgraph)
     frame.camera = camera.camera_data(scene, depsgraph, width, height, frame.origin)
     frame.warnings.extend(camera.feature_warnings(scene))
-    frame.warnings.extend(settings.world_warnings(scene))
+    world = settings.world_light(scene, frame.warnings)
+    if world is not None:
+        frame.lights.append(world)
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type == "LIGHT":

@@ -56,7 +56,8 @@ class Mesh:
 
 @dataclass
 class Light:
-    """SsLightDesc. type: "POINT", "SPOT" or "SUN"."""
+    """SsLightDesc. type: "POINT", "SPOT", "SUN" or "WORLD" (strength: radiance; world_directions:
+    0 automatic, -1 unshadowed, or the count; docs/WORLD.md)."""
     type: str
     color: Vector3
     strength: float
@@ -64,6 +65,7 @@ class Light:
     direction: Vector3
     spot_size: float = 0.0
     spot_blend: float = 0.0
+    world_directions: int = 0
 
 
 @dataclass

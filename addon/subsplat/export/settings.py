@@ -1,6 +1,6 @@
 """The scene's SubSplat settings as Settings data."""
 from .. import version
-from .data import Settings
+from .data import Light, Settings
 
 # The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
 # positive weight (exp(-1e-30 x) is 1 for any difference).
@@ -43,26 +43,27 @@ def background(scene):
     return (*world.color, 1.0)
 
 
-def world_warnings(scene):
-    """The world lights nothing in SubSplat (its colour is the background only): said when the world
-    would light the scene, and when an environment texture would be its background."""
+def world_light(scene, warnings):
+    """The world as a Light of type WORLD (its Background colour x strength: the radiance from every
+    direction), or None when it is black; what it renders otherwise than Blender is appended to
+    warnings. docs/WORLD.md"""
     world = scene.world
     if world is None:
-        return []
-    warnings = []
+        return None
     if version.uses_nodes(world):
         node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
         if node is None:
-            return []
+            return None
         colour, strength = node.inputs["Color"], node.inputs["Strength"]
-        if colour.is_linked:
-            warnings.append(f"world '{world.name}': its Background colour is connected to a "
-                            f"{colour.links[0].from_node.bl_label} node, which SubSplat neither shows nor lights with; "
-                            "the background is the socket's own colour")
-        lit = colour.is_linked or strength.is_linked or max(colour.default_value[:3]) * strength.default_value > 0.0
+        for socket, what in ((colour, "colour"), (strength, "strength")):
+            if socket.is_linked:
+                warnings.append(f"world '{world.name}': its Background {what} is connected to a "
+                                f"{socket.links[0].from_node.bl_label} node, which SubSplat does not render; the "
+                                f"world lights the scene with the socket's own {what}, and shows it")
+        rgb, power = tuple(colour.default_value[:3]), float(strength.default_value)
     else:
-        lit = max(world.color) > 0.0
-    if lit:
-        warnings.append(f"world '{world.name}': SubSplat does not light with the world (only the scene's lights): "
-                        "objects get no world light")
-    return warnings
+        rgb, power = tuple(world.color), 1.0
+    if max(rgb) * power <= 0.0:
+        return None
+    return Light(type="WORLD", color=rgb, strength=power, position=(0.0, 0.0, 0.0), direction=(0.0, 0.0, -1.0),
+                 world_directions=scene.subsplat.world_directions)

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 13
+#define SS_API_VERSION 14
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -57,7 +57,12 @@ typedef enum SsMethod {
 typedef enum SsLightType {
   SS_LIGHT_POINT = 0,
   SS_LIGHT_SPOT = 1,
-  SS_LIGHT_SUN = 2
+  SS_LIGHT_SUN = 2,
+  /* The world: radiance colour x strength (W/m^2/sr per unit colour, as Blender's Background)
+   * arriving from every direction; at most one. Rendered as world_directions shadowed
+   * directions that together give an unoccluded surface exactly pi x radiance, or unshadowed
+   * (docs/WORLD.md). */
+  SS_LIGHT_WORLD = 3
 } SsLightType;
 
 /* A triangle mesh in object space, indexed by corners. */
@@ -107,12 +112,15 @@ typedef struct SsLightDesc {
   int32_t type;            /* SsLightType */
   float color[3];          /* linear RGB */
   /* POINT, SPOT: power in watts (Blender/Cycles convention, I = P / 4pi W/sr).
-   * SUN: irradiance in W/m^2 on a surface facing the sun. */
+   * SUN: irradiance in W/m^2 on a surface facing the sun. WORLD: radiance, W/m^2/sr. */
   float strength;
   float position[3];       /* POINT, SPOT: world position */
   float direction[3];      /* SPOT, SUN: direction the light travels */
   float spot_size;         /* SPOT: full cone angle, radians */
   float spot_blend;        /* SPOT: [0, 1] */
+  /* WORLD: shadowed directions in [1, 64]; 0: chosen from the world's share of the scene's
+   * light (docs/WORLD.md); -1: none, the world lights every surface unshadowed. */
+  int32_t world_directions;
 } SsLightDesc;
 
 typedef struct SsCameraDesc {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "pipeline/light_views.h"
+#include "world_light.h"
 
 namespace subsplat {
 
@@ -23,7 +24,8 @@ double lightTexel(const Scene& scene, const Bounds& translucent, int resolution,
   double texel = 0.0;
   if (translucent.empty()) return texel;
   Bounds all = scene.bounds(false);
-  for (const SsLightDesc& light : scene.lights())
+  RenderLights lights = renderLights(scene);
+  for (const SsLightDesc& light : lights.lights)
     for (const LightView& view : lightViews(light, translucent, all, resolution)) {
       double size = light.type == SS_LIGHT_SUN
                         ? view.shadowTexelSize

@@ -18,6 +18,9 @@ struct LightView {
   float orthoTexelArea = 0.0f;  // sun: texel area perpendicular to the light
   float shadowTexelSize = 0.0f; // sun: texel size; perspective: texel size at distance 1
   bool unshadowedOutside = false;
+  // One of the world's shadowed directions (world_light.h): the world's whole direction set, for
+  // D(n); nullptr for every other light.
+  const std::vector<glm::vec3>* worldDirections = nullptr;
 };
 
 std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "material/splat_kernel.h"
+#include "world_light.h"
 
 namespace subsplat {
 
@@ -24,7 +25,10 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
                     {0, 0, 0, 0},
                     {0, 0, 0, uint32_t(e.base)},
                     {0, 0, 0, -1.0f},
+                    {0, 0, 0, 0},
                     {0, 0, 0, 0}};
+    glm::vec3 response = unshadowedResponse(e);
+    for (int c = 0; c < 3; ++c) g.world[c] = response[c];
     if (e.mapped()) {
       g.profileMap[0] = mapOffset;
       g.profileMap[1] = uint32_t(e.profiles->width());

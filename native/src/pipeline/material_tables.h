@@ -18,6 +18,7 @@ struct MaterialGpu {
   uint32_t profileMap[4];
   float medium[4];      // TABULATED: rgb single-scattering albedo, w: transport layer (-1: none)
   float extinction[4];  // TABULATED: rgb sigma_t per scene unit
+  float world[4];       // translucent: rgb unshadowedResponse (world_light.h)
 };
 
 // The per-material tables the splat shaders read.

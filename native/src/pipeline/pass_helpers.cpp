@@ -30,6 +30,10 @@ void setLightUniforms(GLuint program, const LightView& view) {
   glUniform1i(uniform(program, "lightType"), l.type);
   glUniform1f(uniform(program, "lightCosHalfSpot"), l.type == SS_LIGHT_SPOT ? cosHalf : -2.0f);
   glUniform1f(uniform(program, "lightSpotSmooth"), (1.0f - cosHalf) * l.spot_blend);
+  int worldCount = view.worldDirections ? int(view.worldDirections->size()) : 0;
+  glUniform1i(uniform(program, "worldDirectionCount"), worldCount);
+  if (worldCount > 0)
+    glUniform3fv(uniform(program, "worldDirections"), worldCount, glm::value_ptr(view.worldDirections->front()));
 }
 
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj) {

@@ -22,8 +22,9 @@ class Shading {
                       const SplattingBuffer& splatting, GLuint transportTables);
   // Eq. 7 (with the TABULATED model's exit factor) and the background into `target` (RGBA32F,
   // width x height).
+  // world: the world's radiance and unshadowed remainder (world_light.h: RenderLights).
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
-                    const float background[4]);
+                    const float background[4], const glm::vec3& worldRadiance, const glm::vec3& worldUnshadowed);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:

@@ -15,6 +15,7 @@
 #include "reference/ray_scene.h"
 #include "util/camera.h"
 #include "util/error.h"
+#include "world_light.h"
 
 namespace subsplat {
 
@@ -38,10 +39,12 @@ struct Profile {
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
   glm::vec3 baseColor{0.0f};
+  glm::vec3 world{0.0f};  // world_light.h: unshadowedResponse
 
   Profile(const MaterialEntry& e, int index)
       : translucent(isTranslucent(e.desc)), holdout(e.desc.kind == SS_MATERIAL_HOLDOUT), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
-        roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)) {
+        roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)),
+        world(unshadowedResponse(e)) {
     const SsMaterialDesc& d = e.desc;
     if (d.kind == SS_MATERIAL_SUBEDIT) {
       const ProfileSet& set = *e.profiles;
@@ -311,7 +314,8 @@ double exitDistance(const RayScene& rays, int mesh, const glm::vec3& p, const gl
 // TABULATED model: the light that entered where `light` first meets the object of pixel point p
 // and crossed the part to reach p (direct_lighting.frag: transmitted); n faces the camera.
 glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const glm::vec3& n, const glm::vec3& view,
-                      const SsLightDesc& light, const Profile& profile, float sceneSize) {
+                      const SsLightDesc& light, const std::vector<glm::vec3>* worldDirections, const Profile& profile,
+                      float sceneSize) {
   LightSample ls = sampleLight(light, p);
   if (ls.irradiance == glm::vec3(0.0f)) return glm::vec3(0.0f);
   float far = std::isinf(ls.distance) ? sceneSize : ls.distance;
@@ -325,6 +329,7 @@ glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const 
   glm::vec3 ne = glm::normalize(interpolate(m.normals, t, {1.0f - hit.u - hit.v, hit.u, hit.v}));
   LightSample entry = sampleLight(light, xe);
   if (glm::dot(ne, entry.towardsLight) < 0.0f) ne = -ne;  // two-sided, as the irradiance buffer
+  if (worldDirections) entry.irradiance *= worldWeight(*worldDirections, ne);
   double mu0 = std::clamp(double(glm::dot(ne, entry.towardsLight)), 0.0, 1.0);
   double mu = std::clamp(double(glm::dot(n, view)), 0.0, 1.0);
   thickness *= mu0;  // the slab's thickness along the entry's normal
@@ -362,7 +367,17 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   };
   RayScene rays(scene);
   const auto& meshes = rays.meshes();
-  const auto& lights = scene.lights();
+  RenderLights rendered = renderLights(scene);
+  const std::vector<SsLightDesc>& lights = rendered.lights;
+  // A light's sample at p, for a surface of normal n (either side: the world's weight takes the side
+  // facing the light, as the shaders do).
+  auto lightAt = [&](size_t i, const glm::vec3& p, const glm::vec3& n) {
+    LightSample ls = sampleLight(lights[i], p);
+    if (rendered.world[i])
+      ls.irradiance *= worldWeight(rendered.worldDirections, glm::dot(n, ls.towardsLight) >= 0.0f ? n : -n);
+    return ls;
+  };
+  auto worldOf = [&](size_t i) { return rendered.world[i] ? &rendered.worldDirections : nullptr; };
 
   // 1. Cells: by area, at least one per triangle.
   double totalArea = 0.0;
@@ -439,8 +454,8 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         glm::vec3 flux(0.0f), fluxMu0(0.0f);
         s.normal = ns;
         bool facing = false;
-        for (const SsLightDesc& light : lights) {
-          LightSample ls = sampleLight(light, s.position);
+        for (size_t li = 0; li < lights.size(); ++li) {
+          LightSample ls = lightAt(li, s.position, ns);
           float cosGeometric = std::abs(glm::dot(ng, ls.towardsLight));
           if (cosGeometric <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
           float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
@@ -520,14 +535,18 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         }
 
         glm::vec3 color(0.0f);
-        for (const SsLightDesc& light : lights) {
-          LightSample ls = sampleLight(light, p);
+        for (size_t li = 0; li < lights.size(); ++li) {
+          LightSample ls = lightAt(li, p, n);
           float nl = glm::dot(n, ls.towardsLight);
           if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f) || !visible(rays, p, ng, ls)) continue;
           glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
-          float specular = specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
+          // The world's specular reflection is its remainder's, below (world_light.h).
+          float specular = rendered.world[li] ? 0.0f
+                                              : specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
           color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
         }
+        color += rendered.worldRadiance * specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
+        if (!profile.translucent) color += rendered.unshadowed * profile.baseColor;
         if (profile.translucent) {
           glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
                              ? glm::dvec4(0.0)
@@ -540,11 +559,20 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
             for (int c = 0; c < 3; ++c) exitFactor[c] = profile.transport->exit(c, b.w / sum, mu);
           color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI));
           if (profile.transport)
-            for (const SsLightDesc& light : lights) {
-              LightSample ls = sampleLight(light, p);
+            for (size_t li = 0; li < lights.size(); ++li) {
+              LightSample ls = sampleLight(lights[li], p);
               if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
-              color += throughPart(rays, hit.mesh, p, n, view, light, profile, sceneSize);
+              color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize);
             }
+          if (rendered.unshadowed != glm::vec3(0.0f)) {  // final_shading.frag's remainder
+            glm::vec3 world = rendered.unshadowed * profile.world * ft;
+            if (profile.transport)
+              for (int c = 0; c < 3; ++c) {
+                double root = std::sqrt(std::max(1.0 - profile.transport->albedo()[size_t(c)], 0.0));
+                world[c] *= float(1.0 - root * profile.transport->h(c, mu));
+              }
+            color += world;
+          }
           float* e = exitance_.data() + 4 * pixel;
           e[0] = float(b.x), e[1] = float(b.y), e[2] = float(b.z), e[3] = 1.0f;
         }
