@@ -78,16 +78,19 @@ def main():
             sigma_a, sigma_s, _, _ = principled.read(material, node, settings.mm_per_unit, settings.eta, model)
             reads.append(time.perf_counter() - start)
             start = time.perf_counter()
-            native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance, model)
+            built = native.ProfileSet.from_dipoles(sigma_a, sigma_s, settings.eta, settings.fit_tolerance, model)
             builds.append(time.perf_counter() - start)
+        info = built.info()
         media = len(np.unique(np.concatenate([sigma_a, sigma_s], axis=-1).reshape(-1, 6), axis=0))
         rows.append({"model": model, "texels_read": int(sigma_a.shape[0] * sigma_a.shape[1]),
                      "distinct_media": media, "read_s": statistics.median(reads),
-                     "profile_set_s": statistics.median(builds)})
+                     "profile_set_s": statistics.median(builds), "palette_profiles": info['profiles'],
+                     "fit_error": info['fit_error'], "max_fit_error": info['max_fit_error']})
         r = rows[-1]
         print(f"{model}: {args.side}^2 image -> {r['texels_read']} texels, {media} media; read and convert "
               f"{r['read_s']:.3f} s, profile set {r['profile_set_s']:.3f} s, total "
-              f"{r['read_s'] + r['profile_set_s']:.3f} s", flush=True)
+              f"{r['read_s'] + r['profile_set_s']:.3f} s; {info['profiles']} profiles, fit error {info['fit_error']:.4f} "
+              f"(largest {info['max_fit_error']:.4f})", flush=True)
     result = {"side": args.side, "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
               "blender": bpy.app.version_string, "rows": rows}
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)

@@ -9,6 +9,8 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <string>
+#include <tuple>
 #include <unordered_map>
 
 #include "material/splat_kernel.h"
@@ -212,6 +214,8 @@ std::vector<uint32_t> cluster(const Distinct& d, const std::vector<std::array<do
 // Distinct profiles whose errors are measured: all, or an even stride of
 // kErrorSamples of them when there are more.
 constexpr size_t kErrorSamples = 65536;
+// fromDipoles: the media the model's error is measured on when it merged media.
+constexpr size_t kMergeSamples = 512;
 
 struct Fit {
   std::vector<float> palette;       // groups x (n + 1) x 3, source segments
@@ -306,7 +310,14 @@ void requireKnots(const float* knots, size_t count, size_t stride, const std::fu
 
 namespace {
 
-ProfileSet build(const Distinct& d, int width, int height, int segments, double radiusMm, double tolerance) {
+// The model's error against the source, measured by the caller (fromDipoles, whose distinct
+// profiles are merged media): given the palette (chosen segments) and the map, the mean and the
+// largest error. Without one, the error is the fit's against the distinct profiles.
+using SourceError = std::function<std::pair<double, double>(const std::vector<float>& palette, int segments,
+                                                            const std::vector<uint16_t>& map)>;
+
+ProfileSet build(const Distinct& d, int width, int height, int segments, double radiusMm, double tolerance,
+                 const SourceError& sourceError = nullptr) {
   require(std::isfinite(tolerance) && tolerance >= 1e-6 && tolerance <= 1.0,
           "profile-fit tolerance must be in [1e-6, 1], got " + std::to_string(tolerance));
   size_t stride = size_t(segments + 1) * 3;
@@ -379,6 +390,7 @@ ProfileSet build(const Distinct& d, int width, int height, int segments, double 
   info.height = mapHeight;
   info.fitError = fit.meanError + segmentError;
   info.maxFitError = fit.maxError + segmentError;
+  if (sourceError) std::tie(info.fitError, info.maxFitError) = sourceError(palette, chosen, map);
   info.sourceSegments = segments;
   info.sourceProfiles = int(d.size());
   info.sourceWidth = width;
@@ -422,41 +434,118 @@ ProfileSet ProfileSet::fromDipoles(int width, int height, const float* sigmaA, c
       coefficients[6 * t + 3 + size_t(c)] = s;
     }
   Distinct dipoles = distinctProfiles(coefficients.data(), texels, 6);
+  // More media than kMaxMedia (a painted texture holds tens of thousands): merged on a grid in
+  // ln sigma, the step grown by 1.25 until at most kMaxMedia cells hold media, each cell the count-weighted
+  // mean of its media in ln sigma. The palette keeps kMaxProfiles anyway; the model's error is then
+  // measured against a sample of the media themselves (below).
+  Distinct media = dipoles;
+  if (dipoles.size() > size_t(kMaxMedia)) {
+    std::vector<double> ln(dipoles.size() * 6);
+    for (size_t i = 0; i < ln.size(); ++i) ln[i] = std::log(std::max(double(dipoles.knots[i]), 1e-6));
+    auto lnSigma = [&](size_t i, int j) { return ln[6 * i + size_t(j)]; };
+    std::vector<uint32_t> cellOf(dipoles.size());
+    size_t cells = 0;
+    for (double step = 1.0 / 256.0;; step *= 1.25) {
+      std::unordered_map<uint64_t, std::vector<std::pair<std::array<int64_t, 6>, uint32_t>>> index;
+      cells = 0;
+      for (size_t i = 0; i < dipoles.size(); ++i) {
+        std::array<int64_t, 6> key;
+        uint64_t h = 1469598103934665603ull;
+        for (int j = 0; j < 6; ++j) {
+          key[size_t(j)] = int64_t(std::floor(lnSigma(i, j) / step));
+          h = (h ^ uint64_t(key[size_t(j)])) * 1099511628211ull;
+        }
+        auto& bucket = index[h];
+        auto found = std::find_if(bucket.begin(), bucket.end(), [&](const auto& e) { return e.first == key; });
+        if (found == bucket.end()) bucket.emplace_back(key, uint32_t(cells++)), found = bucket.end() - 1;
+        cellOf[i] = found->second;
+      }
+      if (cells <= size_t(kMaxMedia)) break;
+    }
+    std::vector<double> sum(cells * 6, 0.0);
+    media.counts.assign(cells, 0);
+    for (size_t i = 0; i < dipoles.size(); ++i) {
+      media.counts[cellOf[i]] += dipoles.counts[i];
+      for (int j = 0; j < 6; ++j) sum[cellOf[i] * 6 + size_t(j)] += dipoles.counts[i] * lnSigma(i, j);
+    }
+    media.knots.assign(cells * 6, 0.0f);
+    for (size_t c = 0; c < cells; ++c)
+      for (int j = 0; j < 6; ++j) media.knots[c * 6 + size_t(j)] = float(std::exp(sum[c * 6 + size_t(j)] / media.counts[c]));
+    for (uint32_t& m : media.ofTexel) m = cellOf[m];
+  }
   // One r_s for all: the longest 99.9 % radius. Segments: a quarter of the
   // shortest z_r, where the dipole bends (fitting then keeps what is needed).
-  double radiusMm = 0.0, zr = std::numeric_limits<double>::infinity();
-  std::vector<std::array<std::shared_ptr<const RadialProfile>, 3>> models;
-  for (size_t i = 0; i < dipoles.size(); ++i) {
-    const float* k = dipoles.knots.data() + 6 * i;
-    models.push_back({makeMediumProfile({k[0], k[3], eta}, model), makeMediumProfile({k[1], k[4], eta}, model),
-                      makeMediumProfile({k[2], k[5], eta}, model)});
-    for (const auto& m : models.back()) {
-      radiusMm = std::max(radiusMm, m->radiusForEnergy(0.999));
-      zr = std::min(zr, m->scaleHint());  // z_r = 1 / sigma_t' for either model
+  auto modelsOf = [&](const float* k) {
+    return std::array<std::shared_ptr<const RadialProfile>, 3>{makeMediumProfile({k[0], k[3], eta}, model),
+                                                                makeMediumProfile({k[1], k[4], eta}, model),
+                                                                makeMediumProfile({k[2], k[5], eta}, model)};
+  };
+  std::vector<std::array<std::shared_ptr<const RadialProfile>, 3>> models(media.size());
+  std::vector<double> radii(media.size(), 0.0), scales(media.size(), std::numeric_limits<double>::infinity());
+  parallelFor(media.size(), 64, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      models[i] = modelsOf(media.knots.data() + 6 * i);
+      for (const auto& m : models[i]) {
+        radii[i] = std::max(radii[i], m->radiusForEnergy(0.999));
+        scales[i] = std::min(scales[i], m->scaleHint());  // z_r = 1 / sigma_t' for either model
+      }
     }
-  }
-  radiusMm = double(float(radiusMm));  // as files and the API hold it
+  }, nullptr, 0.0, 1.0);
+  double radiusMm = double(float(*std::max_element(radii.begin(), radii.end())));  // as files and the API hold it
+  double zr = *std::min_element(scales.begin(), scales.end());
   int segments = std::clamp(int(std::ceil(radiusMm / (0.25 * zr))), 16, kMaxSegments);
   size_t stride = size_t(segments + 1) * 3;
-  require(uint64_t(dipoles.size()) * stride <= kMaxSourceFloats,
-          std::to_string(dipoles.size()) + " different dipoles with " + std::to_string(segments) +
+  require(uint64_t(media.size()) * stride <= kMaxSourceFloats,
+          std::to_string(media.size()) + " different dipoles with " + std::to_string(segments) +
               " segments exceed the 1 GiB budget; use fewer distinct values");
-  Distinct d;
-  d.counts = dipoles.counts;
-  d.ofTexel = std::move(dipoles.ofTexel);
-  d.knots.resize(dipoles.size() * stride);
-  for (size_t i = 0; i < dipoles.size(); ++i)
+  // ln P at the knots, keeping the model's total reflectance (the tail beyond r_s is cut).
+  auto knotsOf = [&](const std::array<std::shared_ptr<const RadialProfile>, 3>& channels, float* knots) {
     for (int c = 0; c < 3; ++c) {
-      const RadialProfile& m = *models[i][size_t(c)];
-      float* out = d.knots.data() + i * stride + size_t(c);
+      const RadialProfile& m = *channels[size_t(c)];
+      float* out = knots + size_t(c);
       for (int k = 0; k <= segments; ++k)
         out[3 * k] = float(std::max(std::log(m.value(radiusMm * k / segments)), -1000.0));
-      // Keep the model's total reflectance (the tail beyond r_s is cut).
       double kept = SegmentedProfile(out, segments, radiusMm, 3).totalEnergy();
       double shift = kept > 0.0 ? std::log(m.totalEnergy() / kept) : 0.0;
       for (int k = 0; k <= segments; ++k) out[3 * k] = float(std::max(double(out[3 * k]) + shift, -1000.0));
     }
-  return build(d, width, height, segments, radiusMm, tolerance);
+  };
+  Distinct d;
+  d.counts = media.counts;
+  d.ofTexel = std::move(media.ofTexel);
+  d.knots.resize(media.size() * stride);
+  parallelFor(media.size(), 64, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) knotsOf(models[i], d.knots.data() + i * stride);
+  }, nullptr, 0.0, 1.0);
+  // Merged: the model's error is measured against the media themselves, each sampled medium's
+  // profile against its palette entry, on an even stride of at most kMergeSamples media, weighted
+  // by texels (the fit's own error is against the merged cells).
+  SourceError sourceError;
+  if (media.size() < dipoles.size())
+    sourceError = [&](const std::vector<float>& palette, int chosen, const std::vector<uint16_t>& map) {
+      size_t step = std::max<size_t>(1, dipoles.size() / kMergeSamples), samples = (dipoles.size() + step - 1) / step;
+      std::vector<size_t> texelOf(dipoles.size(), 0);
+      for (size_t t = texels; t-- > 0;) texelOf[dipoles.ofTexel[t]] = t;
+      std::vector<double> errors(samples, 0.0);
+      parallelFor(samples, 16, [&](size_t begin, size_t end) {
+        std::vector<float> own(stride);
+        for (size_t k = begin; k < end; ++k) {
+          size_t i = k * step;
+          knotsOf(modelsOf(dipoles.knots.data() + 6 * i), own.data());
+          size_t entry = map.size() == 1 ? 0 : map[texelOf[i]];
+          errors[k] = profileError(own.data(), segments, palette.data() + entry * size_t(chosen + 1) * 3, chosen,
+                                   radiusMm, 1);
+        }
+      }, nullptr, 0.0, 1.0);
+      double mean = 0.0, largest = 0.0, weights = 0.0;
+      for (size_t k = 0; k < samples; ++k) {
+        mean += errors[k] * dipoles.counts[k * step];
+        weights += dipoles.counts[k * step];
+        largest = std::max(largest, errors[k]);
+      }
+      return std::pair{mean / weights, largest};
+    };
+  return build(d, width, height, segments, radiusMm, tolerance, sourceError);
 }
 
 ProfileSet ProfileSet::fromPalette(int segments, double radiusMm, std::vector<float> palette, int width, int height,

@@ -63,6 +63,8 @@ class ProfileSet {
  public:
   static constexpr int kMaxSegments = 1024;
   static constexpr int kMaxProfiles = 64;
+  // fromDipoles: the most distinct media whose profiles are evaluated; more are merged first.
+  static constexpr int kMaxMedia = 2048;
   static constexpr int kMaxSide = 16384;
   static constexpr uint64_t kMaxSourceFloats = uint64_t(1) << 28;  // 1 GiB of source data
   static constexpr double kMaxLogValue = 50.0;                     // ln P, P in 1/mm^2

@@ -122,6 +122,43 @@ TEST(ProfileSet, ManyProfilesAreClusteredIntoThePalette) {
   EXPECT_EQ(set.width(), kSide);
 }
 
+// More distinct media than kMaxMedia (a painted Subsurface Color holds tens of thousands): merged in
+// their coefficients before any profile is evaluated, and the error reported is measured against
+// the media themselves. Checked here independently: every texel's palette entry against its own
+// medium's total reflectance, per channel.
+TEST(ProfileSet, ManyMediaAreMergedAndTheirErrorIsMeasuredAgainstThem) {
+  constexpr int kSide = 64;  // 4096 media: skin to marble across, a scale of 1 to 2 down
+  std::vector<float> a, s;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      double t = x / double(kSide - 1), scale = 1.0 + y / double(kSide - 1);
+      for (int c = 0; c < 3; ++c) {
+        a.push_back(float(scale * std::exp((1 - t) * std::log(kSkinA[c]) + t * std::log(kMarbleA[c]))));
+        s.push_back(float(scale * std::exp((1 - t) * std::log(kSkinS[c]) + t * std::log(kMarbleS[c]))));
+      }
+    }
+  ProfileSet set = ProfileSet::fromDipoles(kSide, kSide, a.data(), s.data(), 1.3, 0.01);
+  EXPECT_LE(set.info().sourceProfiles, ProfileSet::kMaxMedia) << "merged before the profiles were evaluated";
+  EXPECT_LE(set.profileCount(), ProfileSet::kMaxProfiles);
+  double sum = 0.0, largest = 0.0;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      int entry = set.profileAt((x + 0.5f) / kSide, (y + 0.5f) / kSide);
+      for (int c = 0; c < 3; ++c) {
+        size_t i = size_t(y * kSide + x) * 3 + size_t(c);
+        double own = Dipole({a[i], s[i], 1.3}).totalReflectance();
+        double e = std::abs(set.channel(entry, c).totalEnergy() / own - 1.0);
+        sum += e, largest = std::max(largest, e);
+      }
+    }
+  double mean = sum / (3.0 * kSide * kSide);
+  std::printf("reported error %.4f (largest %.4f); total reflectance per texel and channel: mean %.4f, largest %.4f\n",
+              set.info().fitError, set.info().maxFitError, mean, largest);
+  EXPECT_LE(mean, set.info().fitError + 1e-3) << "the reported mean error covers the totals' error";
+  // The reported largest is over a sample (512 of the 4096 media), so it may miss the very largest.
+  EXPECT_LE(largest, 1.5 * set.info().maxFitError);
+}
+
 class SubEditFile : public ::testing::Test {
  protected:
   // One file per test: CTest runs the tests in parallel, each in a process of its own.
