@@ -17,7 +17,8 @@ STAGES = ("buffers", "splatting", "shading", "readback")
 # The header's enums (subsplat.h), by name.
 SS_CANCELLED = 7
 SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL, SS_METHOD_REFERENCE = 0, 1, 2, 3, 4
-SS_LIGHT_POINT, SS_LIGHT_SPOT, SS_LIGHT_SUN, SS_LIGHT_WORLD = 0, 1, 2, 3
+SS_LIGHT_POINT, SS_LIGHT_SPOT, SS_LIGHT_SUN, SS_LIGHT_WORLD, SS_LIGHT_AREA = 0, 1, 2, 3, 4
+AREA_SHAPES = {"SQUARE": 0, "RECTANGLE": 1, "DISK": 2, "ELLIPSE": 3}
 SS_MATERIAL_OPAQUE, SS_MATERIAL_DIPOLE, SS_MATERIAL_SUBEDIT, SS_MATERIAL_HOLDOUT = 0, 1, 2, 3
 SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED = 0, 1
 SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
@@ -25,7 +26,8 @@ SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
 # The plain data's names (export.data) for them.
 METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE": SS_METHOD_ADAPTIVE,
            "FULL": SS_METHOD_FULL, "REFERENCE": SS_METHOD_REFERENCE}
-LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_SUN, "WORLD": SS_LIGHT_WORLD}
+LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_SUN, "WORLD": SS_LIGHT_WORLD,
+               "AREA": SS_LIGHT_AREA}
 MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "SUBEDIT": SS_MATERIAL_SUBEDIT,
                   "HOLDOUT": SS_MATERIAL_HOLDOUT}
 PROFILE_MODELS = {"DIPOLE": SS_PROFILE_DIPOLE, "TABULATED": SS_PROFILE_TABULATED}
@@ -95,7 +97,8 @@ class ProfileSetInfo(ctypes.Structure):
 class LightDesc(ctypes.Structure):
     _fields_ = [("type", ctypes.c_int32), ("color", Float3), ("strength", ctypes.c_float),
                 ("position", Float3), ("direction", Float3), ("spot_size", ctypes.c_float),
-                ("spot_blend", ctypes.c_float), ("world_directions", ctypes.c_int32)]
+                ("spot_blend", ctypes.c_float), ("world_directions", ctypes.c_int32), ("area_shape", ctypes.c_int32),
+                ("area_axis", Float3), ("area_size", ctypes.c_float * 2)]
 
 
 class CameraDesc(ctypes.Structure):
@@ -364,6 +367,9 @@ def _light_desc(light):
     desc.spot_size = light.spot_size
     desc.spot_blend = light.spot_blend
     desc.world_directions = light.world_directions
+    desc.area_shape = AREA_SHAPES[light.area_shape]
+    desc.area_axis = Float3(*light.area_axis)
+    desc.area_size = (ctypes.c_float * 2)(*light.area_size)
     return desc
 
 

@@ -143,6 +143,36 @@ uniform vec3 lightDirection;  // direction the light travels (spot axis, sun)
 uniform vec3 lightRadiant;    // colour x (intensity W/sr | sun irradiance W/m^2)
 uniform int lightType;        // LIGHT_POINT, LIGHT_SPOT, LIGHT_SUN (gl/bindings.h)
 uniform float lightCosHalfSpot, lightSpotSmooth;
+// An area light (reference/lighting.h: areaCorners): its corners in the world (else 0 of them);
+// lightRadiant is then its radiance, lightDirection the way it faces.
+uniform int lightAreaCorners;
+uniform vec3 lightAreaPolygon[16];
+
+// Lambert's formula for a polygon of unit radiance over a surface at p of normal n, the polygon
+// clipped to n's hemisphere; 0 behind the emitter (reference/lighting.cpp: polygonIrradiance).
+float polygonIrradiance(vec3 p, vec3 n) {
+  if (dot(p - lightAreaPolygon[0], lightDirection) <= 0.0) return 0.0;
+  vec3 v[18];
+  int count = 0;
+  for (int i = 0; i < lightAreaCorners; ++i) {
+    vec3 a = lightAreaPolygon[i] - p, b = lightAreaPolygon[(i + 1) % lightAreaCorners] - p;
+    float da = dot(n, a), db = dot(n, b);
+    if (da >= 0.0) v[count++] = a;
+    if ((da >= 0.0) != (db >= 0.0)) v[count++] = a + (b - a) * (da / (da - db));
+  }
+  float sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    vec3 a = v[i], b = v[(i + 1) % count];
+    if (length(a) < 1e-12 || length(b) < 1e-12) continue;
+    a = normalize(a), b = normalize(b);
+    vec3 c = cross(a, b);
+    float l = length(c);
+    if (l < 1e-12) continue;
+    sum += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(n, c / l);
+  }
+  return 0.5 * abs(sum);
+}
+
 // One of the world's shadowed directions (world_light.h): the whole set, for D(n); 0 otherwise.
 uniform int worldDirectionCount;
 uniform vec3 worldDirections[64];
@@ -175,4 +205,10 @@ vec3 irradianceFacingLight(vec3 p) {
     e *= attenuation;
   }
   return e;
+}
+
+// The irradiance on a surface at p of normal n facing the light, max(0, n . L) included.
+vec3 surfaceIrradiance(vec3 p, vec3 n) {
+  if (lightAreaCorners > 0) return lightRadiant * polygonIrradiance(p, n);
+  return irradianceFacingLight(p) * max(dot(n, towardsLight(p)), 0.0);
 }

@@ -34,7 +34,8 @@ vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t) {
   float mu0 = clamp(dot(ne.xyz, towardsLight(pe.xyz)), 0.0, 1.0);
   float thickness = max(depth - texelFetch(irradianceLightDepth, t, 0).r, 0.0) * mu0;  // along the entry's normal
   float mu = clamp(dot(n, V), 0.0, 1.0);
-  vec3 entering = irradianceFacingLight(pe.xyz) * mu0 * lightWeight(ne.xyz) * fresnelTransmittance(materials[m].optics.x, mu0);
+  vec3 entering = (lightAreaCorners > 0 ? surfaceIrradiance(pe.xyz, ne.xyz) : irradianceFacingLight(pe.xyz) * mu0) *
+                  lightWeight(ne.xyz) * fresnelTransmittance(materials[m].optics.x, mu0);
   return entering * transmittedRadiance(m, thickness * materials[m].extinction.rgb, mu0, mu) *
          fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
 }
@@ -82,7 +83,7 @@ void main() {
     return;
   }
 
-  vec3 E = irradianceFacingLight(p) * nl * visibility * lightWeight(n);
+  vec3 E = (lightAreaCorners > 0 ? surfaceIrradiance(p, n) : irradianceFacingLight(p) * nl) * visibility * lightWeight(n);
   float nv = max(dot(n, V), 1e-4);
   vec3 H = normalize(L + V);
   float roughness = clamp(materials[m].optics.y, 0.02, 1.0);

@@ -66,6 +66,9 @@ void main() {
                             pow(1.0 + dot(plane, plane), 1.5);
     float distance2 = dot(lightPosition - worldPosition, lightPosition - worldPosition);
     flux = irradianceFacingLight(worldPosition) * distance2 * texelSolidAngle;
+    // An area light: the polygon's irradiance on the texel's surface, times that surface's area.
+    if (lightAreaCorners > 0)
+      flux = surfaceIrradiance(worldPosition, n) * distance2 * texelSolidAngle / max(cosShading, 1e-3);
     perpendicularArea = texelSolidAngle * distance2;
     lightDepth = sqrt(distance2);
   }

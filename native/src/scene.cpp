@@ -198,7 +198,7 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
     const SsLightDesc& l = list[i];
     std::string name = "light " + std::to_string(i);
     require(l.type == SS_LIGHT_POINT || l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN ||
-                l.type == SS_LIGHT_WORLD,
+                l.type == SS_LIGHT_WORLD || l.type == SS_LIGHT_AREA,
             name + ": unknown type " + std::to_string(l.type));
     if (l.type == SS_LIGHT_WORLD) {
       require(++worlds == 1, name + ": a second world light (at most one)");
@@ -211,7 +211,20 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
             name + ": non-finite parameter");
     require(l.strength >= 0 && l.color[0] >= 0 && l.color[1] >= 0 && l.color[2] >= 0,
             name + ": negative strength or colour");
-    if (l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN)
+    if (l.type == SS_LIGHT_AREA) {
+      glm::vec3 axis = glm::make_vec3(l.area_axis), normal = glm::make_vec3(l.direction);
+      require(finite(l.area_axis, 3) && std::isfinite(l.area_size[0]) && std::isfinite(l.area_size[1]),
+              name + ": non-finite area parameter");
+      require(l.area_shape >= SS_AREA_SQUARE && l.area_shape <= SS_AREA_ELLIPSE,
+              name + ": unknown area shape " + std::to_string(l.area_shape));
+      bool twoSizes = l.area_shape == SS_AREA_RECTANGLE || l.area_shape == SS_AREA_ELLIPSE;
+      require(l.area_size[0] > 0.0f && l.area_size[0] <= 1e6f && (!twoSizes || (l.area_size[1] > 0.0f && l.area_size[1] <= 1e6f)),
+              name + ": area sizes must be in (0, 1e6]");
+      require(glm::length(axis) > 1e-12f && glm::length(normal) > 1e-12f &&
+                  std::abs(glm::dot(glm::normalize(axis), glm::normalize(normal))) < 1e-3f,
+              name + ": the area light's axis must be non-zero and perpendicular to its direction");
+    }
+    if (l.type == SS_LIGHT_SPOT || l.type == SS_LIGHT_SUN || l.type == SS_LIGHT_AREA)
       require(glm::length(glm::make_vec3(l.direction)) > 1e-12f, name + ": zero direction");
     if (l.type == SS_LIGHT_SPOT)
       require(l.spot_size > 0 && l.spot_size <= float(M_PI) && l.spot_blend >= 0 && l.spot_blend <= 1,

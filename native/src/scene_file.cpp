@@ -21,7 +21,7 @@ constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
 constexpr uint32_t kFormatVersion = 4;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
 // and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
-// light record (no world_directions: there was no world light).
+// light record (no world_directions and area fields: there were no world and area lights).
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
@@ -33,7 +33,7 @@ constexpr uint32_t kMeshHasUvs = 1;
 // then for SUBEDIT the profile set: n, r_s, palette and map.
 constexpr size_t kMaterialBytes = 15 * 4;
 constexpr size_t kMaterialBytesV2 = 14 * 4;
-constexpr size_t kLightBytes = 14 * 4, kLightBytesV3 = 13 * 4;
+constexpr size_t kLightBytes = 20 * 4, kLightBytesV3 = 13 * 4;
 static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&

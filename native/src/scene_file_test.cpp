@@ -166,7 +166,7 @@ TEST_F(SceneFile, DamagedFilesAreRejectedAndLeaveTheSceneEmpty) {
 }
 
 // Format 1 (before SsSettings.target_error, SsMaterialDesc.profile_model and
-// SsLightDesc.world_directions) still loads: its shorter settings record takes the default target.
+// SsLightDesc's world and area fields) still loads: its shorter settings record takes the default target.
 TEST_F(SceneFile, FormatOneFilesStillLoad) {
   SsMaterialDesc opaque{};
   opaque.kind = SS_MATERIAL_OPAQUE;
@@ -194,15 +194,16 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
       bytes.erase(bytes.begin() + std::ptrdiff_t(field), bytes.begin() + std::ptrdiff_t(field + 4));
       size = shorter;
     }
-    if (tag == 3) {  // lights: drop world_directions, the last field of each
+    if (tag == 3) {  // lights: drop the fields from world_directions on, the last of each
       uint32_t count;
       std::memcpy(&count, &bytes[at + 16], 4);
       ASSERT_EQ(size, 4 + count * sizeof(SsLightDesc));
+      size_t added = sizeof(SsLightDesc) - offsetof(SsLightDesc, world_directions);
       for (uint32_t i = count; i-- > 0;) {
         size_t end = at + 16 + 4 + (i + 1) * sizeof(SsLightDesc);
-        bytes.erase(bytes.begin() + std::ptrdiff_t(end - 4), bytes.begin() + std::ptrdiff_t(end));
+        bytes.erase(bytes.begin() + std::ptrdiff_t(end - added), bytes.begin() + std::ptrdiff_t(end));
       }
-      uint64_t shorter = size - 4 * count;
+      uint64_t shorter = size - added * count;
       std::memcpy(&bytes[at + 8], &shorter, 8);
       size = shorter;
     }

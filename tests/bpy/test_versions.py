@@ -205,8 +205,13 @@ class Export(unittest.TestCase):
         exported = self.export()
         lights = {light.type: light for light in exported.lights if light.type != "POINT" or
                   light.strength == 100.0}
-        self.assertEqual(set(lights), {"POINT", "SPOT", "SUN"})
-        point, spot, sun = lights["POINT"], lights["SPOT"], lights["SUN"]
+        self.assertEqual(set(lights), {"POINT", "SPOT", "SUN", "AREA"})
+        point, spot, sun, area = lights["POINT"], lights["SPOT"], lights["SUN"], lights["AREA"]
+        size = bpy.data.lights["Area"].size
+        self.assertEqual(area.area_shape, bpy.data.lights["Area"].shape)
+        np.testing.assert_allclose(area.area_size, (size, size), atol=1e-6)
+        np.testing.assert_allclose(area.direction, (0, 0, -1), atol=1e-6)
+        self.assertAlmostEqual(area.strength, 10.0, places=5)
         np.testing.assert_allclose(np.add(point.position, exported.origin), (1, 2, 3), atol=1e-6)
         np.testing.assert_allclose(point.color, (1.0, 0.5, 0.25), atol=1e-6)
         self.assertAlmostEqual(spot.spot_size, 0.8, places=6)
@@ -215,7 +220,7 @@ class Export(unittest.TestCase):
         np.testing.assert_allclose(sun.direction, (0, math.sin(math.radians(60)), -math.cos(math.radians(60))),
                                    atol=1e-6)
         frame = self.export()
-        self.assertTrue(any("area lights are rendered as point lights" in w for w in frame.warnings))
+        self.assertTrue(any("an area light's shadows are cast from its centre" in w for w in frame.warnings))
         if hasattr(bpy.types.Light, "bl_rna") and "exposure" in bpy.types.Light.bl_rna.properties:
             bpy.data.lights["Point"].exposure = 1.0  # Cycles: energy x 2 ** exposure
             strengths = sorted(light.strength for light in self.export().lights if light.type == "POINT")

@@ -56,8 +56,8 @@ class Mesh:
 
 @dataclass
 class Light:
-    """SsLightDesc. type: "POINT", "SPOT", "SUN" or "WORLD" (strength: radiance; world_directions:
-    0 automatic, -1 unshadowed, or the count; docs/WORLD.md)."""
+    """SsLightDesc. type: "POINT", "SPOT", "SUN", "AREA" (docs/AREA_LIGHTS.md) or "WORLD" (strength:
+    radiance; world_directions: 0 automatic, -1 unshadowed, or the count; docs/WORLD.md)."""
     type: str
     color: Vector3
     strength: float
@@ -66,6 +66,9 @@ class Light:
     spot_size: float = 0.0
     spot_blend: float = 0.0
     world_directions: int = 0
+    area_shape: str = "SQUARE"                 # AREA: SQUARE, RECTANGLE, DISK, ELLIPSE
+    area_axis: Vector3 = (1.0, 0.0, 0.0)       # AREA: its local x axis in the world
+    area_size: Tuple[float, float] = (1.0, 1.0)  # AREA: sizes along x and y, scene units
 
 
 @dataclass

@@ -1,4 +1,6 @@
 """Blender lights as Light data."""
+import math
+
 from .. import version
 from .data import Light
 
@@ -19,7 +21,21 @@ def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
         data.spot_size = light.spot_size
         data.spot_blend = light.spot_blend
     elif light.type == "AREA":
-        warnings.append(f"light '{obj.name}': area lights are rendered as point lights")
+        # Blender scales an area light with its object; it faces down its local -Z.
+        x_axis, y_axis = matrix.col[0].xyz, matrix.col[1].xyz
+        two_sizes = light.shape in {"RECTANGLE", "ELLIPSE"}
+        data.type = "AREA"
+        data.area_shape = light.shape
+        normal = axis.normalized() if axis.length > 0 else axis
+        in_plane = x_axis - normal * x_axis.dot(normal)  # perpendicular to the normal, as the library needs
+        data.area_axis = tuple(in_plane.normalized()) if in_plane.length > 1e-12 else tuple(normal.orthogonal().normalized())
+        data.area_size = (light.size * x_axis.length, (light.size_y if two_sizes else light.size) * y_axis.length)
+        warnings.append(f"light '{obj.name}': an area light's shadows are cast from its centre (hard); "
+                        "its irradiance is the whole emitter's")
+        spread = getattr(light, "spread", math.pi)
+        if spread < math.pi - 1e-4:
+            warnings.append(f"light '{obj.name}': its spread ({math.degrees(spread):.3g} degrees) is rendered as 180 "
+                            "degrees (a Lambertian emitter)")
     soft = light.angle if light.type == "SUN" else getattr(light, "shadow_soft_size", 0.0)
     if light.type != "AREA" and soft > 0.0:
         size = "angle" if light.type == "SUN" else "radius"

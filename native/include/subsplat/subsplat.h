@@ -62,8 +62,19 @@ typedef enum SsLightType {
    * arriving from every direction; at most one. Rendered as world_directions shadowed
    * directions that together give an unoccluded surface exactly pi x radiance, or unshadowed
    * (docs/WORLD.md). */
-  SS_LIGHT_WORLD = 3
+  SS_LIGHT_WORLD = 3,
+  /* A one-sided Lambertian emitter of power strength (W) facing `direction`, centred at
+   * position: radiance P / (4 A), as Cycles. Shadows are cast from its centre
+   * (docs/AREA_LIGHTS.md). */
+  SS_LIGHT_AREA = 4
 } SsLightType;
+
+typedef enum SsAreaShape {
+  SS_AREA_SQUARE = 0,    /* area_size[0] x area_size[0] */
+  SS_AREA_RECTANGLE = 1, /* area_size[0] along area_axis x area_size[1] */
+  SS_AREA_DISK = 2,      /* diameter area_size[0] */
+  SS_AREA_ELLIPSE = 3    /* diameters area_size[0] along area_axis and area_size[1] */
+} SsAreaShape;
 
 /* A triangle mesh in object space, indexed by corners. */
 typedef struct SsMeshDesc {
@@ -121,6 +132,11 @@ typedef struct SsLightDesc {
   /* WORLD: shadowed directions in [1, 64]; 0: chosen from the world's share of the scene's
    * light (docs/WORLD.md); -1: none, the world lights every surface unshadowed. */
   int32_t world_directions;
+  /* AREA: SsAreaShape, the emitter's local x axis (perpendicular to direction), its sizes in
+   * scene units. */
+  int32_t area_shape;
+  float area_axis[3];
+  float area_size[2];
 } SsLightDesc;
 
 typedef struct SsCameraDesc {

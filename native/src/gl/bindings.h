@@ -62,7 +62,8 @@
 #define SUBSPLAT_SHARED_ENUMS(X)    \
   X(LIGHT_POINT, SS_LIGHT_POINT)    \
   X(LIGHT_SPOT, SS_LIGHT_SPOT)      \
-  X(LIGHT_SUN, SS_LIGHT_SUN)
+  X(LIGHT_SUN, SS_LIGHT_SUN)        \
+  X(LIGHT_AREA, SS_LIGHT_AREA)
 
 namespace subsplat::gl {
 

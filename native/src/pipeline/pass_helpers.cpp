@@ -1,6 +1,7 @@
 #include "pipeline/pass_helpers.h"
 
 #include "material/transport_model.h"
+#include "reference/lighting.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -20,6 +21,14 @@ void setLightUniforms(GLuint program, const LightView& view) {
   const SsLightDesc& l = *view.light;
   float scale = l.type == SS_LIGHT_SUN ? 1.0f : 1.0f / (4.0f * float(M_PI));  // W -> W/sr
   glm::vec3 radiant = glm::make_vec3(l.color) * (l.strength * scale);
+  std::vector<glm::vec3> corners;
+  if (l.type == SS_LIGHT_AREA) {  // its radiance, and its corners
+    radiant = glm::make_vec3(l.color) * areaRadiance(l);
+    corners = areaCorners(l);
+  }
+  glUniform1i(uniform(program, "lightAreaCorners"), int(corners.size()));
+  if (!corners.empty())
+    glUniform3fv(uniform(program, "lightAreaPolygon"), GLsizei(corners.size()), glm::value_ptr(corners.front()));
   glm::vec3 direction = l.type == SS_LIGHT_POINT ? glm::vec3(0, 0, -1)
                                                  : glm::normalize(glm::make_vec3(l.direction));
   float cosHalf = std::cos(0.5f * l.spot_size);

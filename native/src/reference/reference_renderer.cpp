@@ -327,7 +327,7 @@ glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const 
   glm::uvec3 t = m.triangle(hit.triangle);
   glm::vec3 xe = interpolate(m.positions, t, {1.0f - hit.u - hit.v, hit.u, hit.v});
   glm::vec3 ne = glm::normalize(interpolate(m.normals, t, {1.0f - hit.u - hit.v, hit.u, hit.v}));
-  LightSample entry = sampleLight(light, xe);
+  LightSample entry = sampleLightOn(light, xe, ne);
   if (glm::dot(ne, entry.towardsLight) < 0.0f) ne = -ne;  // two-sided, as the irradiance buffer
   if (worldDirections) entry.irradiance *= worldWeight(*worldDirections, ne);
   double mu0 = std::clamp(double(glm::dot(ne, entry.towardsLight)), 0.0, 1.0);
@@ -372,7 +372,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   // A light's sample at p, for a surface of normal n (either side: the world's weight takes the side
   // facing the light, as the shaders do).
   auto lightAt = [&](size_t i, const glm::vec3& p, const glm::vec3& n) {
-    LightSample ls = sampleLight(lights[i], p);
+    LightSample ls = sampleLightOn(lights[i], p, n);
     if (rendered.world[i])
       ls.irradiance *= worldWeight(rendered.worldDirections, glm::dot(n, ls.towardsLight) >= 0.0f ? n : -n);
     return ls;
