@@ -15,6 +15,52 @@ uniform int transmission;        // some material is TABULATED
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(location = 0) out vec4 radiance;
+// Soft shadows (docs/SOFT_SHADOWS.md): sun: the tangent of half its angle; point, spot, area: its
+// radius; 0: hard. lightNearDepth: the least light depth in the view (the search's widest reach).
+uniform float lightSoftSize;
+uniform float lightNearDepth;
+
+// The penumbra's half-width (world) at a receiver at light depth `depth` behind a blocker at `blocker`.
+float penumbra(float depth, float blocker) {
+  return lightType == LIGHT_SUN ? (depth - blocker) * lightSoftSize
+                                : lightSoftSize * (depth - blocker) / max(blocker, 1e-6);
+}
+// The share of the light's disk that reaches a receiver at light depth `depth` over the view's
+// point `ndc`, percentage-closer soft shadows (Fernando 2005): the blockers' mean depth over the
+// widest penumbra, then the share of the penumbra's texels that do not block. texel: a texel's
+// world size at the receiver; slope: how fast the receiver's depth grows across the map per world
+// unit (its bias); p: the receiver, for the map's scale there.
+float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
+  vec2 centre = (ndc * 0.5 + 0.5) * float(resolution);
+  // Texels per world unit across the light's ray at p (a perspective map's texels shrink off its axis).
+  // The mean over two directions across the ray (the map is anisotropic there).
+  vec3 L = towardsLight(p), u = normalize(cross(L, abs(L.z) < 0.9 ? vec3(0, 0, 1) : vec3(1, 0, 0))), v = cross(L, u);
+  float h = 0.01 * (lightType == LIGHT_SUN ? texel * 100.0 : distance(p, lightPosition));
+  vec4 a = lightViewProj * vec4(p, 1.0), bu = lightViewProj * vec4(p + u * h, 1.0), bv = lightViewProj * vec4(p + v * h, 1.0);
+  float texelsPerWorld = 0.5 * (length(bu.xy / bu.w - a.xy / a.w) + length(bv.xy / bv.w - a.xy / a.w)) * 0.5 *
+                         float(resolution) / h;
+  const float golden = 2.39996323;  // taps on a Vogel spiral: a disk, as the light's
+  float search = clamp(penumbra(depth, lightNearDepth) * texelsPerWorld, 1.0, 32.0);
+  float blockers = 0.0, blockerDepth = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    float r = sqrt((float(k) + 0.5) / 16.0), phi = golden * float(k);
+    vec2 offset = r * vec2(cos(phi), sin(phi)) * search;
+    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
+    float stored = texelFetch(irradianceLightDepth, t, 0).r;
+    if (stored < depth - 2.0 * texel - slope * length(offset) * texel) blockers += 1.0, blockerDepth += stored;
+  }
+  if (blockers == 0.0) return 1.0;
+  float width = clamp(penumbra(depth, blockerDepth / blockers) * texelsPerWorld, 0.5, 32.0);
+  float lit = 0.0;
+  for (int k = 0; k < 32; ++k) {
+    float r = sqrt((float(k) + 0.5) / 32.0), phi = golden * float(k);
+    vec2 offset = r * vec2(cos(phi), sin(phi)) * width;
+    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
+    float stored = texelFetch(irradianceLightDepth, t, 0).r;
+    if (depth <= stored + 2.0 * texel + slope * length(offset) * texel) lit += 1.0;
+  }
+  return lit / 32.0;
+}
 
 float ggx(float nh, float alpha2) {
   float d = nh * nh * (alpha2 - 1.0) + 1.0;
@@ -66,6 +112,10 @@ void main() {
     float stored = texelFetch(irradianceLightDepth, t, 0).r;
     float depth = lightType == LIGHT_SUN ? dot(offset, lightDirection) : distance(offset, lightPosition);
     visibility = depth <= stored + 2.0 * texel ? 1.0 : 0.0;
+    if (lightSoftSize > 0.0) {
+      float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
+      visibility = softVisibility(ndc.xy, depth, texel, slope, p);
+    }
   } else if (unshadowedOutside == 0) {
     discard;
   }

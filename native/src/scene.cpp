@@ -211,6 +211,10 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
             name + ": non-finite parameter");
     require(l.strength >= 0 && l.color[0] >= 0 && l.color[1] >= 0 && l.color[2] >= 0,
             name + ": negative strength or colour");
+    require(std::isfinite(l.soft_size) && l.soft_size >= 0.0f &&
+                (l.type != SS_LIGHT_SUN || l.soft_size <= float(M_PI / 2)) && l.soft_size <= 1e6f,
+            name + ": soft size must be in [0, pi/2] radians for a sun and in [0, 1e6] for other lights, got " +
+                std::to_string(l.soft_size));
     if (l.type == SS_LIGHT_AREA) {
       glm::vec3 axis = glm::make_vec3(l.area_axis), normal = glm::make_vec3(l.direction);
       require(finite(l.area_axis, 3) && std::isfinite(l.area_size[0]) && std::isfinite(l.area_size[1]),

@@ -94,5 +94,53 @@ class RadiometryMatchesCycles(unittest.TestCase):
                 self.compare(f"area_{shape.lower()}", area, region=0.9)
 
 
+    def test_sun_angle_penumbra(self):
+        """Issue 20: a sun of 10 degrees at 45 over a grey plane with a 1 x 1 x 1 box on it: the open
+        plane's mean radiance within 3 % of Cycles, and the 10-90 % width of the shadow's far edge
+        (the render over the same render without the box, along the shadow's middle row) within
+        15 % of Cycles' (docs/SOFT_SHADOWS.md)."""
+        import bpy
+        import numpy as np
+        size = 128
+        scene = helpers.empty_scene(size, size)
+        grey = lambertian("Grey", 0.5)
+        helpers.plane(scene, 8.0, grey)
+        mesh = bpy.data.meshes.new("Box")
+        corners = [(x, y, z) for z in (0.0, 1.0) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
+        mesh.from_pydata(corners, [], [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+        mesh.materials.append(grey)
+        box = bpy.data.objects.new("Box", mesh)
+        scene.collection.objects.link(box)
+        camera = helpers.top_down_camera(scene, ortho_scale=4.0)
+        camera.location.x = 1.0
+        helpers.add_light(scene, "SUN", rotation=(0, math.radians(-45), 0), energy=3.0, angle=math.radians(10))
+        scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 256, False
+        scene.cycles.max_bounces, scene.cycles.seed = 0, 1
+        rows = {}
+        for engine in ("SUBSPLAT", "CYCLES"):
+            scene.render.engine = engine
+            box.hide_render = False
+            shadowed = helpers.render(scene, f"radiometry_penumbra_{engine.lower()}")
+            box.hide_render = True
+            open_plane = helpers.render(scene, f"radiometry_penumbra_open_{engine.lower()}")
+            middle = slice(size // 2 - 4, size // 2 + 4)
+            rows[engine] = (shadowed[middle, :, 1].mean(axis=0) / open_plane[middle, :, 1].mean(axis=0),
+                            open_plane[..., :3].mean())
+        widths = {}
+        for engine, (visible, _) in rows.items():
+            start = int((0.5 + 1.0) / 4.0 * size) + 2  # past the box's side (x = 0.5)
+            def crossing(level):
+                for x in range(start, size - 1):
+                    if visible[x] < level <= visible[x + 1]:
+                        return x + (level - visible[x]) / (visible[x + 1] - visible[x])
+                return float(size)
+            widths[engine] = (crossing(0.9) - crossing(0.1)) * 4.0 / size
+        ours, cycles = rows["SUBSPLAT"][1], rows["CYCLES"][1]
+        print(f"radiometry sun angle: open plane subsplat {ours:.5f} cycles {cycles:.5f}; penumbra 10-90 % "
+              f"subsplat {widths['SUBSPLAT']:.3f} cycles {widths['CYCLES']:.3f} (units)")
+        self.assertAlmostEqual(ours / cycles, 1.0, delta=0.03)
+        self.assertAlmostEqual(widths["SUBSPLAT"] / widths["CYCLES"], 1.0, delta=0.15)
+
+
 if __name__ == "__main__":
     helpers.run_tests()

@@ -30,14 +30,14 @@ def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
         in_plane = x_axis - normal * x_axis.dot(normal)  # perpendicular to the normal, as the library needs
         data.area_axis = tuple(in_plane.normalized()) if in_plane.length > 1e-12 else tuple(normal.orthogonal().normalized())
         data.area_size = (light.size * x_axis.length, (light.size_y if two_sizes else light.size) * y_axis.length)
-        warnings.append(f"light '{obj.name}': an area light's shadows are cast from its centre (hard); "
-                        "its irradiance is the whole emitter's")
         spread = getattr(light, "spread", math.pi)
         if spread < math.pi - 1e-4:
             warnings.append(f"light '{obj.name}': its spread ({math.degrees(spread):.3g} degrees) is rendered as 180 "
                             "degrees (a Lambertian emitter)")
     soft = light.angle if light.type == "SUN" else getattr(light, "shadow_soft_size", 0.0)
-    if light.type != "AREA" and soft > 0.0:
-        size = "angle" if light.type == "SUN" else "radius"
-        warnings.append(f"light '{obj.name}': its {size} ({soft:.3g}) is rendered as 0: hard shadows")
+    if light.type != "AREA":
+        data.soft_size = min(soft, math.pi / 2) if light.type == "SUN" else soft
+    if light.type == "AREA" or soft > 0.0:
+        warnings.append(f"light '{obj.name}': its soft shadows fall on opaque surfaces only; the light entering "
+                        "translucent objects is shadowed from its centre (hard)")
     return data

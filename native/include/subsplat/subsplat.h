@@ -137,6 +137,10 @@ typedef struct SsLightDesc {
   int32_t area_shape;
   float area_axis[3];
   float area_size[2];
+  /* Soft shadows on opaque surfaces (docs/SOFT_SHADOWS.md): SUN: the sun's angular diameter in
+   * radians, [0, pi/2]; POINT, SPOT: the light's radius in scene units; 0: hard. AREA: unused
+   * (its size). */
+  float soft_size;
 } SsLightDesc;
 
 typedef struct SsCameraDesc {

@@ -33,14 +33,18 @@ LightView perspectiveView(const SsLightDesc& light, const glm::vec3& forward, fl
   v.light = &light;
   v.viewProj = proj * view;
   v.tanHalfFov = tanHalfFov;
+  v.nearDepth = std::max(glm::length(all.center() - position) - all.radius(), far * 1e-3f);
   v.shadowTexelSize = 2.0f * tanHalfFov / float(resolution);
   return v;
 }
 
 }  // namespace
 
-std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
-                                  const Bounds& all, int resolution) {
+namespace {
+
+// The views of lightViews, before their soft size.
+std::vector<LightView> pointLikeViews(const SsLightDesc& light, const Bounds& translucent,
+                                      const Bounds& all, int resolution) {
   std::vector<LightView> views;
   if (all.empty()) return views;
   if (light.type == SS_LIGHT_SUN) {
@@ -63,6 +67,8 @@ std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& transl
     v.orthoTexelArea = texel * texel;
     v.shadowTexelSize = texel;
     v.unshadowedOutside = true;
+    v.nearDepth = glm::dot(center, dir) - all.radius() - glm::length(all.center() - center);
+    v.softSize = std::tan(0.5f * light.soft_size);
     views.push_back(v);
     return views;
   }
@@ -76,6 +82,23 @@ std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& transl
   }
   const glm::vec3 faces[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   for (const glm::vec3& face : faces) views.push_back(perspectiveView(light, face, 1.0f, all, resolution));
+  return views;
+}
+
+}  // namespace
+
+std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
+                                  const Bounds& all, int resolution) {
+  std::vector<LightView> views = pointLikeViews(light, translucent, all, resolution);
+  float radius = light.soft_size;
+  if (light.type == SS_LIGHT_AREA) {
+    bool twoSizes = light.area_shape == SS_AREA_RECTANGLE || light.area_shape == SS_AREA_ELLIPSE;
+    float w = light.area_size[0], h = twoSizes ? light.area_size[1] : light.area_size[0];
+    bool round = light.area_shape == SS_AREA_DISK || light.area_shape == SS_AREA_ELLIPSE;
+    radius = std::sqrt((round ? 0.25f * float(M_PI) * w * h : w * h) / float(M_PI));
+  }
+  if (light.type != SS_LIGHT_SUN)
+    for (LightView& v : views) v.softSize = radius;
   return views;
 }
 

@@ -21,6 +21,11 @@ struct LightView {
   // One of the world's shadowed directions (world_light.h): the world's whole direction set, for
   // D(n); nullptr for every other light.
   const std::vector<glm::vec3>* worldDirections = nullptr;
+  // Soft shadows (direct_lighting.frag): sun: tan of half its angle; point, spot, area: its radius
+  // (an area light's: the disk of its area); 0: hard. nearDepth: the least light depth of any
+  // object in the view, the farthest a blocker can be from a receiver.
+  float softSize = 0.0f;
+  float nearDepth = 0.0f;
 };
 
 std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,

@@ -42,6 +42,8 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Ir
   glUniform1i(uniform(p, "resolution"), irradiance.resolution());
   glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
   glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
+  glUniform1f(uniform(p, "lightSoftSize"), view.softSize);
+  glUniform1f(uniform(p, "lightNearDepth"), view.nearDepth);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());

@@ -11,6 +11,7 @@
 #include "material/dipole.h"
 #include "material/profile_set.h"
 #include "material/transport_model.h"
+#include "pipeline/light_views.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
 #include "util/camera.h"
@@ -284,6 +285,33 @@ bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, cons
   return !rays.occluded(origin, light.towardsLight, 0.0f, far);
 }
 
+// The share of a soft light (docs/SOFT_SHADOWS.md) that p sees: shadow rays to kSoftShadowRays points
+// of its disk, seen from p (a sun: directions within its cone; a point, spot or area light: a disk
+// of its radius facing p), on a Vogel spiral. softSize as LightView's (light_views.h).
+constexpr int kSoftShadowRays = 16;
+float softVisibility(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light,
+                     float softSize, bool sun) {
+  glm::vec3 w = light.towardsLight;
+  glm::vec3 u = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0)));
+  glm::vec3 v = glm::cross(w, u);
+  const float golden = float(M_PI) * (3.0f - std::sqrt(5.0f));
+  int seen = 0;
+  for (int k = 0; k < kSoftShadowRays; ++k) {
+    float r = std::sqrt((k + 0.5f) / kSoftShadowRays), phi = golden * float(k);
+    glm::vec2 d = r * glm::vec2(std::cos(phi), std::sin(phi));
+    LightSample ray = light;
+    if (sun) {
+      ray.towardsLight = glm::normalize(w + softSize * (d.x * u + d.y * v));
+    } else {
+      glm::vec3 target = p + w * light.distance + softSize * (d.x * u + d.y * v);
+      ray.distance = glm::length(target - p);
+      ray.towardsLight = (target - p) / ray.distance;
+    }
+    seen += visible(rays, p, ng, ray) ? 1 : 0;
+  }
+  return float(seen) / kSoftShadowRays;
+}
+
 // TABULATED model: how far the light travels inside the object it entered at p before it leaves,
 // as the GPU's exit-depth pass finds it (exit_depth.frag): the nearest surface facing away from
 // the light along its ray beyond p, and its normal (*exitNormal); infinite (a half-space) when that
@@ -377,6 +405,12 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       ls.irradiance *= worldWeight(rendered.worldDirections, glm::dot(n, ls.towardsLight) >= 0.0f ? n : -n);
     return ls;
   };
+  // Soft shadows: each light's disk, as the GPU's views have it (light_views.cpp).
+  std::vector<float> softSizes;
+  for (const SsLightDesc& l : lights) {
+    std::vector<LightView> views = lightViews(l, scene.bounds(true), scene.bounds(false), 64);
+    softSizes.push_back(views.empty() ? 0.0f : views.front().softSize);
+  }
   auto worldOf = [&](size_t i) { return rendered.world[i] ? &rendered.worldDirections : nullptr; };
 
   // 1. Cells: by area, at least one per triangle.
@@ -538,7 +572,12 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         for (size_t li = 0; li < lights.size(); ++li) {
           LightSample ls = lightAt(li, p, n);
           float nl = glm::dot(n, ls.towardsLight);
-          if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f) || !visible(rays, p, ng, ls)) continue;
+          if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
+          float soft = softSizes[li];
+          float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, soft, lights[li].type == SS_LIGHT_SUN)
+                                         : visible(rays, p, ng, ls) ? 1.0f : 0.0f;
+          if (visibility <= 0.0f) continue;
+          ls.irradiance *= visibility;
           glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
           // The world's specular reflection is its remainder's, below (world_light.h).
           float specular = rendered.world[li] ? 0.0f

@@ -1,0 +1,124 @@
+// Soft shadows (docs/SOFT_SHADOWS.md): the penumbra of a box on a floor under a sun with an angle
+// and under a point light with a radius, FULL's percentage-closer soft shadows against REFERENCE's
+// shadow rays to the light's disk, and against the penumbra's geometry.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "subsplat/subsplat.h"
+#include "testing/egl_context.h"
+#include "testing/scenes.h"
+
+namespace subsplat {
+namespace {
+
+class SoftShadow : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+    SsMaterialDesc grey{};
+    grey.kind = SS_MATERIAL_OPAQUE;
+    grey.base_color[0] = grey.base_color[1] = grey.base_color[2] = 0.5f;
+    grey.roughness = 1.0f;
+    grey.eta = 1.5f;
+    ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
+    SsMeshDesc floor = quad.desc(4.0f, 0);
+    ASSERT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
+    // A box of 1 x 1 x 1 on the floor, centred on the origin.
+    box = {-0.5f, -0.5f, 1, 0.5f, -0.5f, 1, 0.5f, 0.5f, 1, -0.5f, 0.5f, 1,
+           -0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
+    indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
+    setBox();
+    SsCameraDesc camera = testing::topDownCamera(2.0f);  // x in [-2, 2] over kSize pixels
+    camera.world_to_view[12] = -1.0f;                     // looking at x = 1: the shadow's side
+    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  }
+  void TearDown() override { ssReleaseContext(context); }
+
+  // The row y = 0 (5 rows averaged), channel G.
+  std::vector<double> row(int method, const SsLightDesc& light) {
+    EXPECT_EQ(ssSetLights(context, &light, 1), SS_OK) << ssGetLastError();
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = 512;
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK);
+    std::vector<float> rgba(size_t(kSize) * kSize * 4);
+    EXPECT_EQ(ssRender(context, kSize, kSize, rgba.data()), SS_OK) << ssGetLastError();
+    std::vector<double> out(kSize, 0.0);
+    for (int x = 0; x < kSize; ++x)
+      for (int y = kSize / 2 - 2; y < kSize / 2 + 3; ++y) out[size_t(x)] += rgba[(size_t(y) * kSize + x) * 4 + 1] / 5.0;
+    return out;
+  }
+  // The 10-90 % width (scene units) of the shadow's far edge along the row y = 0: the row over
+  // the same row without the box (the light's own fall-off divided out), from the box's side on.
+  double penumbraWidth(int method, const SsLightDesc& light) {
+    std::vector<double> shadowed = row(method, light);
+    EXPECT_EQ(ssRemoveMesh(context, 1), SS_OK);
+    std::vector<double> open = row(method, light);
+    setBox();
+    int start = int((0.5 + 1.0) / 4.0 * kSize) + 2;
+    std::vector<double> visible(kSize, 1.0);
+    for (int x = start; x < kSize; ++x) visible[size_t(x)] = open[size_t(x)] > 0.0 ? shadowed[size_t(x)] / open[size_t(x)] : 1.0;
+    if (std::getenv("SOFT_SHADOW_ROWS"))
+      for (int x = start; x < kSize; x += 2) std::printf("%d:%.3f%s", x, visible[size_t(x)], x + 2 >= kSize ? "\n" : " ");
+    auto crossing = [&](double level) {
+      for (int x = start; x + 1 < kSize; ++x)
+        if (visible[size_t(x)] < level && visible[size_t(x + 1)] >= level)
+          return x + (level - visible[size_t(x)]) / (visible[size_t(x + 1)] - visible[size_t(x)]);
+      return double(kSize);
+    };
+    return (crossing(0.9) - crossing(0.1)) * 4.0 / kSize;
+  }
+  void setBox() {
+    SsMeshDesc mesh{};
+    mesh.positions = box.data();
+    mesh.vertex_count = 8;
+    mesh.indices = indices.data();
+    mesh.triangle_count = 12;
+    for (int i = 0; i < 4; ++i) mesh.object_to_world[i * 5] = 1.0f;
+    ASSERT_EQ(ssSetMesh(context, 1, &mesh), SS_OK);
+  }
+  static constexpr int kSize = 128;
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  testing::Quad quad;
+  std::vector<float> box;
+  std::vector<uint32_t> indices;
+};
+
+// A sun at 45 degrees with a 10-degree disk: the far edge is cast by the box's top edge, 1.41
+// units up the light's ray; the penumbra is 1.41 x 0.175 across the light, 0.35 along the floor
+// (1 / cos 45), of which a disk's 10-90 % is about 0.63 (0.22).
+TEST_F(SoftShadow, SunPenumbraMatchesReference) {
+  SsLightDesc sun = testing::sunLight(3.0f, 45.0f);
+  sun.soft_size = float(10.0 * M_PI / 180.0);
+  double full = penumbraWidth(SS_METHOD_FULL, sun), reference = penumbraWidth(SS_METHOD_REFERENCE, sun);
+  sun.soft_size = 0.0f;
+  double hard = penumbraWidth(SS_METHOD_FULL, sun);
+  std::printf("sun penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f, hard %.3f (geometry: 0.35 wide)\n", full, reference, hard);
+  EXPECT_NEAR(full / reference, 1.0, 0.15);
+  EXPECT_GT(reference, 0.15);
+  EXPECT_LT(reference, 0.35);
+  EXPECT_LT(hard, 0.1);
+}
+
+// A point light 3 units above the floor and 0.8 to the side of the box, radius 0.3: the shadow's
+// far edge is inside the cube map's -z face (a percentage-closer filter does not cross faces).
+TEST_F(SoftShadow, PointLightPenumbraMatchesReference) {
+  SsLightDesc point{};
+  point.type = SS_LIGHT_POINT;
+  point.color[0] = point.color[1] = point.color[2] = 1.0f;
+  point.strength = 400.0f;
+  point.position[0] = -0.8f, point.position[2] = 3.0f;
+  point.soft_size = 0.3f;
+  double full = penumbraWidth(SS_METHOD_FULL, point), reference = penumbraWidth(SS_METHOD_REFERENCE, point);
+  std::printf("point penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f\n", full, reference);
+  EXPECT_NEAR(full / reference, 1.0, 0.15);
+  EXPECT_GT(reference, 0.1);
+}
+
+}  // namespace
+}  // namespace subsplat
