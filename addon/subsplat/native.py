@@ -176,8 +176,8 @@ def preload():
     in which a preview render thread's callback started and left Blender's "may not write" flag set
     (docs/DECISIONS.md, "The GIL").
 
-    It also makes the TABULATED model's tables, which the library makes once on first use (about
-    0.3 s, mostly 257 H-function solves): in the material panel's first draw that call kept the GIL
+    It also makes the TABULATED model's tables, which the library made once on first use (0.3 s,
+    mostly 257 H-function solves, embedded since: under 1 ms now): in the material panel's first draw that call kept the GIL
     (ctypes.PyDLL) so long that a waiting preview thread was handed the GIL in the middle of the draw
     as soon as it returned, with the same result (half of bench/preview_write_flag.py's runs beside
     two busy processes, always at the first edit)."""

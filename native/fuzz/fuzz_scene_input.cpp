@@ -83,13 +83,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   SsLightDesc lights[3] = {};
   const uint32_t lightCount = in.ConsumeIntegralInRange<uint32_t>(0, 3);
   for (uint32_t i = 0; i < lightCount; ++i) {
-    lights[i].type = in.ConsumeIntegralInRange<int32_t>(-1, 3);
+    lights[i].type = in.ConsumeIntegralInRange<int32_t>(-1, 5);
     floats(in, lights[i].color, 3);
     floats(in, &lights[i].strength, 1);
     floats(in, lights[i].position, 3);
     floats(in, lights[i].direction, 3);
     floats(in, &lights[i].spot_size, 1);
     floats(in, &lights[i].spot_blend, 1);
+    lights[i].world_directions = in.ConsumeIntegralInRange<int32_t>(-2, 70);
+    lights[i].area_shape = in.ConsumeIntegralInRange<int32_t>(-1, 4);
+    floats(in, lights[i].area_axis, 3);
+    floats(in, lights[i].area_size, 2);
+    floats(in, &lights[i].soft_size, 1);
   }
   ssSetLights(context, lightCount ? lights : nullptr, lightCount);
   SsCameraDesc camera{};

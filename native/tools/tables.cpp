@@ -3,6 +3,7 @@
 //
 //   subsplat_tables [--small | --half-space] [--paths N] [--seed S] [--threads T] [--check] OUTPUT
 //   subsplat_tables --slab-table [--threads T] OUTPUT
+//   subsplat_tables --normal-incidence-albedo OUTPUT
 //   subsplat_tables --hfunction ALBEDO
 //   subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]
 //   subsplat_tables --dipole
@@ -13,6 +14,8 @@
 // standard errors, and the once-scattered parts against their closed forms.
 // --slab-table: the adding-doubling table of thin slabs the TABULATED model reads
 // (native/src/transport/data/slab_table.txt; transport/slab_table.h).
+// --normal-incidence-albedo: the nodes of R(1) = 1 - sqrt(1 - a) H(1) the library interpolates
+// (native/src/transport/data/normal_incidence_albedo.txt; material/transport_model.h).
 // --hfunction: print mu, H(mu) and the half-space albedo R(mu) for mu = 0, 0.05, ..., 1.
 // --slab: a slab's reflectance and transmittance by adding-doubling and by the Monte Carlo
 // (PATHS, default 1e6), side by side. --dipole: the classical dipole's total reflectance at
@@ -27,6 +30,7 @@
 #include <string>
 
 #include "material/dipole.h"
+#include "material/transport_model.h"
 #include "transport/adding_doubling.h"
 #include "transport/hfunction.h"
 #include "transport/profile_table.h"
@@ -39,6 +43,7 @@ namespace {
 int usage() {
   std::fprintf(stderr, "usage: subsplat_tables [--small | --half-space] [--paths N] [--seed S] [--threads T] [--check] OUTPUT\n"
                        "       subsplat_tables --slab-table [--threads T] OUTPUT\n"
+                       "       subsplat_tables --normal-incidence-albedo OUTPUT\n"
                        "       subsplat_tables --hfunction ALBEDO\n"
                        "       subsplat_tables --slab ALBEDO THICKNESS MU0 [PATHS]\n"
                        "       subsplat_tables --dipole\n");
@@ -158,6 +163,12 @@ int main(int argc, char** argv) {
         HFunction h(std::strtod(argv[++i], nullptr));
         for (int k = 0; k <= 20; ++k)
           std::printf("%.2f %.17g %.17g\n", k / 20.0, h(k / 20.0), halfSpaceAlbedo(h, k / 20.0));
+        return 0;
+      } else if (arg == "--normal-incidence-albedo" && argc == 3) {
+        std::string text = writeNormalIncidenceAlbedoNodes(solveNormalIncidenceAlbedoNodes());
+        std::ofstream out(argv[2], std::ios::binary);
+        out << text;
+        if (!out) throw std::runtime_error(std::string("cannot write ") + argv[2]);
         return 0;
       } else if (arg == "--small") {
         spec = smallProfileTableSpec();

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <mutex>
+#include <sstream>
+#include <string>
 
 #include "transport/hfunction.h"
 #include "transport/profile_table.h"
@@ -96,23 +99,48 @@ double cosineCoordinate(double mu) {
   return std::clamp(std::sqrt(std::clamp(mu, 0.0, 1.0)) * n - 1.0, 0.0, n - 1.0);
 }
 
-// R(1) = 1 - sqrt(1 - a) H(1) at the nodes s = sqrt(1 - a) = k / kAlbedoNodes, solved once (an
-// H-function a node, about 1 ms each: a texture of 65 000 texels asked for its media's totals, 50
-// times over by the Principled conversion's bisection, would otherwise solve millions).
-constexpr int kAlbedoNodes = 256;
+// R(1) at the nodes, embedded (transport/data/normal_incidence_albedo.txt, which
+// solveNormalIncidenceAlbedoNodes wrote): solving them at run time took 0.3 s at every Blender start.
 const std::vector<double>& normalIncidenceAlbedoNodes() {
   static const std::vector<double> nodes = [] {
-    std::vector<double> r(kAlbedoNodes + 1);
-    for (int k = 0; k <= kAlbedoNodes; ++k) {
-      double s = double(k) / kAlbedoNodes, a = 1.0 - s * s;
-      r[size_t(k)] = a > 0.0 ? halfSpaceAlbedo(HFunction(hAlbedo(a)), 1.0) : 0.0;
-    }
+    const char* text = transportData("normal_incidence_albedo.txt");
+    require(text != nullptr, "the embedded normal-incidence albedo table is missing");
+    std::vector<double> r;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') r.push_back(std::stod(line));
+    require(r.size() == size_t(kAlbedoNodes) + 1, "the embedded normal-incidence albedo table has " +
+                                                     std::to_string(r.size()) + " values, not " +
+                                                     std::to_string(kAlbedoNodes + 1));
     return r;
   }();
   return nodes;
 }
 
 }  // namespace
+
+std::vector<double> solveNormalIncidenceAlbedoNodes() {
+  std::vector<double> r(kAlbedoNodes + 1);
+  for (int k = 0; k <= kAlbedoNodes; ++k) {
+    double s = double(k) / kAlbedoNodes, a = 1.0 - s * s;
+    r[size_t(k)] = a > 0.0 ? halfSpaceAlbedo(HFunction(hAlbedo(a)), 1.0) : 0.0;
+  }
+  return r;
+}
+
+std::string writeNormalIncidenceAlbedoNodes(const std::vector<double>& nodes) {
+  std::ostringstream out;
+  out << "# R(1) = 1 - sqrt(1 - a) H(1), the half-space's albedo under a normal beam, at sqrt(1 - a) = k / "
+      << kAlbedoNodes << ", k = 0 .. " << kAlbedoNodes << "\n"
+      << "# written by subsplat_tables --normal-incidence-albedo (material/transport_model.h)\n";
+  char value[32];
+  for (double v : nodes) {
+    std::snprintf(value, sizeof value, "%.17g\n", v);
+    out << value;
+  }
+  return out.str();
+}
 
 double halfSpaceAlbedoAtNormalIncidence(double albedo) {
   if (!(albedo > 0.0)) return 0.0;

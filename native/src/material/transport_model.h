@@ -27,6 +27,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "material/dipole.h"
@@ -45,6 +46,12 @@ inline double mediumExtinction(const DipoleChannel& c) { return c.sigmaA + c.sig
 // between 257 nodes in sqrt(1 - a) solved once, within 3e-9 (and 2e-7 of itself) of the
 // H-function's (TabulatedModel.NormalIncidenceAlbedoIsTheHFunctions).
 double halfSpaceAlbedoAtNormalIncidence(double albedo);
+// Its nodes: R(1) at sqrt(1 - a) = k / kAlbedoNodes, k = 0 .. kAlbedoNodes. The library reads them
+// from transport/data/normal_incidence_albedo.txt, which subsplat_tables --normal-incidence-albedo
+// writes from solveNormalIncidenceAlbedoNodes (an H-function a node).
+constexpr int kAlbedoNodes = 256;
+std::vector<double> solveNormalIncidenceAlbedoNodes();
+std::string writeNormalIncidenceAlbedoNodes(const std::vector<double>& nodes);
 // The total the TABULATED profile carries at normal incidence: R(1) of the half-space, times the
 // boundary factor for eta > 1. The add-on's Principled conversion inverts it (ssTotalReflectance).
 double tabulatedTotalReflectance(double albedo, double eta);

@@ -210,6 +210,11 @@ TEST(TabulatedModel, EmbeddedTablesAreWhatTheProgramsMake) {
   ProfileTable again = makeProfileTable(one);
   EXPECT_EQ(again.at(0, 0).reflectedByRadius, table.at(which, 0).reflectedByRadius);
   EXPECT_EQ(again.at(0, 0).reflected, table.at(which, 0).reflected);
+  // The normal-incidence albedo's nodes: the file is what solveNormalIncidenceAlbedoNodes writes,
+  // to the bit (17 digits round-trip a double).
+  const char* nodesText = transportData("normal_incidence_albedo.txt");
+  ASSERT_NE(nodesText, nullptr);
+  EXPECT_EQ(std::string(nodesText), writeNormalIncidenceAlbedoNodes(solveNormalIncidenceAlbedoNodes()));
 }
 
 TEST(TabulatedModel, SideWeightIsASmoothStepFromFacingApartToFacingAlike) {
