@@ -98,7 +98,8 @@ class LightDesc(ctypes.Structure):
     _fields_ = [("type", ctypes.c_int32), ("color", Float3), ("strength", ctypes.c_float),
                 ("position", Float3), ("direction", Float3), ("spot_size", ctypes.c_float),
                 ("spot_blend", ctypes.c_float), ("world_directions", ctypes.c_int32), ("area_shape", ctypes.c_int32),
-                ("area_axis", Float3), ("area_size", ctypes.c_float * 2), ("soft_size", ctypes.c_float)]
+                ("area_axis", Float3), ("area_size", ctypes.c_float * 2), ("soft_size", ctypes.c_float),
+                ("world_below", Float3)]
 
 
 class CameraDesc(ctypes.Structure):
@@ -371,6 +372,7 @@ def _light_desc(light):
     desc.area_axis = Float3(*light.area_axis)
     desc.area_size = (ctypes.c_float * 2)(*light.area_size)
     desc.soft_size = light.soft_size
+    desc.world_below = Float3(*light.world_below)
     return desc
 
 

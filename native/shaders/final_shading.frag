@@ -8,10 +8,16 @@ uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;
 uniform vec4 background;
-// The world (world_light.h): its radiance, for its specular reflection, and the radiance that
-// lights every surface unshadowed (0 when the world is drawn as shadowed directions).
-uniform vec3 worldRadiance;
-uniform vec3 worldUnshadowed;
+// The world (world_light.h): its radiance above and below the horizon, for its specular
+// reflection, and whether it also lights every surface unshadowed (not drawn as directions).
+uniform vec3 worldAbove;
+uniform vec3 worldBelow;
+uniform int worldUnshadowed;
+// world_light.cpp: worldHemisphereMix.
+vec3 worldMix(float z) {
+  float up = 0.5 * (1.0 + clamp(z, -1.0, 1.0));
+  return up * worldAbove + (1.0 - up) * worldBelow;
+}
 // The GGX lobe's directional albedo (world_light.cpp: specularAlbedo, Karis 2014).
 float specularAlbedo(float roughness, float specular, float cosView) {
   float f0 = 0.08 * specular;
@@ -30,9 +36,11 @@ void main() {
   if (isHoldout(m)) { color = vec4(0.0); return; }  // a hole in the image, alpha 0
   vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
   vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
-  float mu = dot(normalize(nm.xyz), V);
-  L += worldRadiance * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
-  if (!isTranslucent(m)) L += worldUnshadowed * materials[m].baseColorKind.rgb;
+  vec3 n = normalize(nm.xyz);
+  float mu = dot(n, V);
+  L += worldMix(reflect(-V, n).z) * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
+  vec3 ambient = worldUnshadowed != 0 ? worldMix(n.z) : vec3(0.0);
+  if (!isTranslucent(m)) L += ambient * materials[m].baseColorKind.rgb;
   if (isTranslucent(m)) {
     float ft = fresnelTransmittance(materials[m].optics.x, mu);
     vec4 b = texelFetch(exitanceBuffer, pixel, 0);
@@ -41,7 +49,7 @@ void main() {
     float sum = b.r + b.g + b.b;
     if (isTabulated(m) && sum > 0.0) exitFactorHere = exitFactor(m, b.a / sum, mu);
     L += ft / PI * b.rgb * exitFactorHere;
-    vec3 world = worldUnshadowed * materials[m].world.rgb * ft;
+    vec3 world = ambient * materials[m].world.rgb * ft;
     if (isTabulated(m))  // the half-space under uniform light: L (1 - sqrt(1 - a) H(mu))
       world *= 1.0 - sqrt(max(1.0 - materials[m].medium.rgb, 0.0)) * hFunction(m, mu);
     L += world;

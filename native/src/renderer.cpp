@@ -180,7 +180,7 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   profiler.begin(SS_STAGE_SHADING);
   shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background,
-                        lights.worldRadiance, lights.unshadowed);
+                        lights.worldRadiance, lights.worldBelow, lights.unshadowed);
   profiler.end();
 
   profiler.begin(SS_STAGE_READBACK);

@@ -201,6 +201,8 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
                 l.type == SS_LIGHT_WORLD || l.type == SS_LIGHT_AREA,
             name + ": unknown type " + std::to_string(l.type));
     if (l.type == SS_LIGHT_WORLD) {
+      require(finite(l.world_below, 3) && l.world_below[0] >= 0 && l.world_below[1] >= 0 && l.world_below[2] >= 0,
+              name + ": the world's radiance below the horizon must be finite and non-negative");
       require(++worlds == 1, name + ": a second world light (at most one)");
       require(l.world_directions >= -1 && l.world_directions <= kMaxWorldDirections,
               name + ": world directions must be -1 (unshadowed), 0 (automatic) or in [1, " +

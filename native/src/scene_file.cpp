@@ -33,7 +33,7 @@ constexpr uint32_t kMeshHasUvs = 1;
 // then for SUBEDIT the profile set: n, r_s, palette and map.
 constexpr size_t kMaterialBytes = 15 * 4;
 constexpr size_t kMaterialBytesV2 = 14 * 4;
-constexpr size_t kLightBytes = 21 * 4, kLightBytesV3 = 13 * 4;
+constexpr size_t kLightBytes = 24 * 4, kLightBytesV3 = 13 * 4;
 static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&

@@ -32,7 +32,7 @@ int automaticWorldDirections(const std::vector<SsLightDesc>& lights, const Bound
   double world = 0.0, others = 0.0;
   for (const SsLightDesc& l : lights) {
     if (l.type == SS_LIGHT_WORLD)
-      world += M_PI * luminance(glm::make_vec3(l.color) * l.strength);
+      world += M_PI * luminance(0.5f * (glm::make_vec3(l.color) * l.strength + glm::make_vec3(l.world_below)));
     else
       others += luminance(sampleLight(l, centre).irradiance);
   }
@@ -52,27 +52,34 @@ RenderLights renderLights(const Scene& scene) {
     out.world.push_back(false);
   }
   if (!world) return out;
-  glm::vec3 radiance = glm::make_vec3(world->color) * world->strength;
+  glm::vec3 radiance = glm::make_vec3(world->color) * world->strength, below = glm::make_vec3(world->world_below);
   out.worldRadiance = radiance;
-  if (radiance == glm::vec3(0.0f)) return out;
+  out.worldBelow = below;
+  if (radiance == glm::vec3(0.0f) && below == glm::vec3(0.0f)) return out;
   Bounds translucent = scene.bounds(true);
   int count = world->world_directions != 0
                   ? world->world_directions
                   : automaticWorldDirections(scene.lights(), translucent.empty() ? scene.bounds(false) : translucent);
   if (count < 0) {
-    out.unshadowed = radiance;
+    out.unshadowed = true;
     return out;
   }
   out.worldDirections = worldDirections(count);
   for (const glm::vec3& w : out.worldDirections) {
     SsLightDesc sun{};
     sun.type = SS_LIGHT_SUN;
-    for (int c = 0; c < 3; ++c) sun.color[c] = world->color[c], sun.direction[c] = -w[c];
-    sun.strength = world->strength;
+    glm::vec3 l = w.z >= 0.0f ? radiance : below;
+    for (int c = 0; c < 3; ++c) sun.color[c] = l[c], sun.direction[c] = -w[c];
+    sun.strength = 1.0f;
     out.lights.push_back(sun);
     out.world.push_back(true);
   }
   return out;
+}
+
+glm::vec3 worldHemisphereMix(const glm::vec3& above, const glm::vec3& below, float z) {
+  float up = 0.5f * (1.0f + std::clamp(z, -1.0f, 1.0f));
+  return up * above + (1.0f - up) * below;
 }
 
 float worldWeight(const std::vector<glm::vec3>& directions, const glm::vec3& n) {

@@ -22,14 +22,21 @@ namespace subsplat {
 constexpr int kMaxWorldDirections = 64;
 
 // What the renderers draw for the scene's lights: every light but the world as given, then the
-// world's shadowed directions (suns of radiance L, flagged `world`), and the unshadowed remainder.
+// world's shadowed directions (suns of radiance L above the horizon or below it, flagged `world`),
+// and the unshadowed remainder.
 struct RenderLights {
   std::vector<SsLightDesc> lights;
   std::vector<bool> world;                 // per light: one of the world's directions
   std::vector<glm::vec3> worldDirections;  // towards the world, unit (K)
-  glm::vec3 worldRadiance{0.0f};           // L, for the specular remainder
-  glm::vec3 unshadowed{0.0f};              // L when the world is drawn unshadowed, else 0
+  glm::vec3 worldRadiance{0.0f};           // L above the horizon, for the specular remainder
+  glm::vec3 worldBelow{0.0f};              // L below it
+  bool unshadowed = false;                 // the world is drawn unshadowed (the remainder's diffuse too)
 };
+
+// The world's remainder for a direction of z component z: its radiance above the horizon and below
+// mixed by the share of the hemisphere around that direction that is above it, (1 + z) / 2: the
+// exact irradiance over pi for a surface of normal z under a world of two halves.
+glm::vec3 worldHemisphereMix(const glm::vec3& above, const glm::vec3& below, float z);
 
 // K points spread evenly over the unit sphere (a spherical Fibonacci lattice), deterministic.
 std::vector<glm::vec3> worldDirections(int count);

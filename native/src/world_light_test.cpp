@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -45,6 +48,7 @@ TEST(WorldDirections, AutomaticCountFollowsTheWorldsShare) {
   world.color[0] = world.color[1] = world.color[2] = 1.0f;
   for (auto [worldRadiance, expected] : {std::pair{0.01f, -1}, {0.1f, 8}, {1.0f, 16}}) {
     world.strength = worldRadiance;  // pi L against the sun's 1 W/m^2: 3 %, 24 %, 76 %
+    world.world_below[0] = world.world_below[1] = world.world_below[2] = worldRadiance;
     EXPECT_EQ(automaticWorldDirections({world, sun}, fit), expected) << worldRadiance;
   }
   EXPECT_EQ(automaticWorldDirections({world}, fit), 16);
@@ -57,7 +61,7 @@ class World : public ::testing::Test {
   void setWorld(const glm::vec3& radiance, int directions) {
     SsLightDesc world{};
     world.type = SS_LIGHT_WORLD;
-    for (int c = 0; c < 3; ++c) world.color[c] = radiance[c];
+    for (int c = 0; c < 3; ++c) world.color[c] = world.world_below[c] = radiance[c];
     world.strength = 1.0f;
     world.world_directions = directions;
     ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK) << ssGetLastError();
@@ -131,6 +135,36 @@ TEST_F(World, LambertianPlaneUnderAUniformWorldIsAlbedoTimesRadiance) {
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(mean(image, 16, c, 2, 14, 2, 14) / (0.5 * radiance[c]), 1.0, 0.02)
             << directions << " directions, method " << method << ", channel " << c;
+    }
+  }
+}
+
+// A world of two halves (an environment map's means above and below its horizon): a surface facing
+// up gets pi L_above, one facing down pi L_below, a wall the mean; drawn in directions and unshadowed.
+TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
+  SsMaterialDesc plane = grey(0.5f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
+  SsMeshDesc mesh = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
+  SsLightDesc world{};
+  world.type = SS_LIGHT_WORLD;
+  world.color[0] = world.color[1] = world.color[2] = 1.0f;
+  world.strength = 0.8f;
+  world.world_below[0] = world.world_below[1] = world.world_below[2] = 0.2f;
+  for (float facing : {1.0f, -1.0f}) {  // the camera above looking down, or below looking up
+    SsCameraDesc camera = testing::topDownCamera(1.0f);
+    glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5 * facing), glm::vec3(0), glm::vec3(0, 1, 0));
+    std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
+    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+    for (int directions : {-1, 16}) {
+      world.world_directions = directions;
+      ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK);
+      for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
+        std::vector<float> image = render(method, 16);
+        double expected = 0.5 * (facing > 0.0f ? 0.8 : 0.2);
+        EXPECT_NEAR(mean(image, 16, 1, 2, 14, 2, 14) / expected, 1.0, 0.02)
+            << (facing > 0 ? "from above" : "from below") << ", " << directions << " directions, method " << method;
+      }
     }
   }
 }

@@ -142,5 +142,32 @@ class RadiometryMatchesCycles(unittest.TestCase):
         self.assertAlmostEqual(widths["SUBSPLAT"] / widths["CYCLES"], 1.0, delta=0.15)
 
 
+    def test_environment_texture_lights_with_its_mean(self):
+        """Issue 20 (in part): an equirectangular Environment Texture lights the scene with its mean
+        radiance above the horizon and below it (rows weighted by their solid angle), as the warning
+        says (docs/WORLD.md). A map bright above the horizon and dark below: the plane facing up has
+        albedo x the sky's mean within 2 %. Cycles is printed (Burley's diffuse, docs/WORLD.md)."""
+        import bpy
+        import numpy as np
+        width, height = 64, 32
+        sky, ground = np.array([1.0, 0.8, 0.6]), np.array([0.1, 0.1, 0.1])
+        pixels = np.ones((height, width, 4), dtype=np.float32)
+        pixels[: height // 2, :, :3] = ground  # row 0 at the bottom: the nadir
+        pixels[height // 2:, :, :3] = sky
+
+        def environment(scene):  # after compare's empty scene, which clears bpy.data
+            image = bpy.data.images.new("SkyGround", width, height, float_buffer=True)
+            image.pixels.foreach_set(pixels.ravel())
+            world = scene.world
+            world.use_nodes = True
+            nodes = world.node_tree.nodes
+            texture = nodes.new("ShaderNodeTexEnvironment")
+            texture.image = image
+            world.node_tree.links.new(texture.outputs["Color"], nodes["Background"].inputs["Color"])
+        ours = self.compare("environment", environment, against_cycles=False)
+        expected = 0.5 * sky.mean()
+        self.assertAlmostEqual(ours / expected, 1.0, delta=0.02, msg=f"SubSplat {ours:.5f}, albedo x mean {expected:.5f}")
+
+
 if __name__ == "__main__":
     helpers.run_tests()

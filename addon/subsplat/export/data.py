@@ -70,6 +70,7 @@ class Light:
     area_axis: Vector3 = (1.0, 0.0, 0.0)       # AREA: its local x axis in the world
     area_size: Tuple[float, float] = (1.0, 1.0)  # AREA: sizes along x and y, scene units
     soft_size: float = 0.0  # SUN: angular diameter (radians); POINT, SPOT: radius (docs/SOFT_SHADOWS.md)
+    world_below: Vector3 = (0.0, 0.0, 0.0)  # WORLD: radiance below the horizon (absolute, docs/WORLD.md)
 
 
 @dataclass

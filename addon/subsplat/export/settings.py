@@ -1,5 +1,7 @@
 """The scene's SubSplat settings as Settings data."""
-from .. import version
+import numpy as np
+
+from .. import principled, version
 from .data import Light, Settings
 
 # The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
@@ -37,10 +39,44 @@ def background(scene):
     if version.uses_nodes(world):
         node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
         if node is not None:
-            color = node.inputs["Color"].default_value
+            color = node.inputs["Color"].default_value[:3]
+            linked = node.inputs["Color"].links[0].from_node if node.inputs["Color"].is_linked else None
+            if linked is not None and linked.type == "TEX_ENVIRONMENT" and linked.image is not None:
+                try:  # the mean over the sphere (world_light lights with each half's)
+                    above, below = environment_mean(linked.image)
+                    color = tuple(0.5 * (a + b) for a, b in zip(above, below))
+                except principled.PrincipledError:
+                    pass
             strength = node.inputs["Strength"].default_value
             return (color[0] * strength, color[1] * strength, color[2] * strength, 1.0)
     return (*world.color, 1.0)
+
+
+_environment_means = {}
+
+
+def source_name(socket):
+    return socket.links[0].from_node.image.name
+
+
+def environment_mean(image):
+    """An equirectangular image's mean radiance above its horizon and below it (two linear RGB
+    tuples, each row weighted by the solid angle it covers), kept per image: a 4K map takes a while
+    to read, and the viewport asks at every update."""
+    key = (image.name_full, image.filepath_raw, tuple(image.size), image.colorspace_settings.name,
+           image.is_float, image.source)
+    if key not in _environment_means:
+        values = principled._image_values(image, True)  # (rows, columns, 3), row 0 at the bottom
+        rows = values.shape[0]
+        latitude = ((np.arange(rows) + 0.5) / rows - 0.5) * np.pi
+        weights = np.cos(latitude)[:, None] * values.mean(axis=1), np.cos(latitude)
+        means = []
+        for half in (latitude >= 0.0, latitude < 0.0):
+            total = weights[1][half].sum()
+            mean = weights[0][half].sum(axis=0) / total if total > 0 else values.mean(axis=(0, 1))
+            means.append(tuple(float(c) for c in mean))
+        _environment_means[key] = tuple(means)
+    return _environment_means[key]
 
 
 def world_light(scene, warnings):
@@ -55,15 +91,29 @@ def world_light(scene, warnings):
         if node is None:
             return None
         colour, strength = node.inputs["Color"], node.inputs["Strength"]
-        for socket, what in ((colour, "colour"), (strength, "strength")):
-            if socket.is_linked:
-                warnings.append(f"world '{world.name}': its Background {what} is connected to a "
-                                f"{socket.links[0].from_node.bl_label} node, which SubSplat does not render; the "
-                                f"world lights the scene with the socket's own {what}, and shows it")
         rgb, power = tuple(colour.default_value[:3]), float(strength.default_value)
+        below = rgb
+        source = colour.links[0].from_node if colour.is_linked else None
+        if source is not None and source.type == "TEX_ENVIRONMENT" and source.image is not None:
+            try:
+                rgb, below = environment_mean(source.image)
+                source = None
+                warnings.append(f"world '{world.name}': its Environment Texture '{source_name(colour)}' lights the "
+                                "scene with its mean radiance above the horizon and below it, and is shown as the "
+                                "mean of the two; its directions within each half (a sun, the sky's gradient) are "
+                                "not rendered (docs/WORLD.md)")
+            except principled.PrincipledError as error:
+                warnings.append(f"world '{world.name}': {error}")
+        for socket, what, linked in ((colour, "colour", source), (strength, "strength", None)):
+            node_from = linked if socket is colour else (socket.links[0].from_node if socket.is_linked else None)
+            if node_from is not None:
+                warnings.append(f"world '{world.name}': its Background {what} is connected to a "
+                                f"{node_from.bl_label} node, which SubSplat does not render; the "
+                                f"world lights the scene with the socket's own {what}, and shows it")
     else:
         rgb, power = tuple(world.color), 1.0
-    if max(rgb) * power <= 0.0:
+        below = rgb
+    if max(max(rgb), max(below)) * power <= 0.0:
         return None
     return Light(type="WORLD", color=rgb, strength=power, position=(0.0, 0.0, 0.0), direction=(0.0, 0.0, -1.0),
-                 world_directions=scene.subsplat.world_directions)
+                 world_directions=scene.subsplat.world_directions, world_below=tuple(c * power for c in below))

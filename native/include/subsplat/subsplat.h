@@ -59,7 +59,7 @@ typedef enum SsLightType {
   SS_LIGHT_SPOT = 1,
   SS_LIGHT_SUN = 2,
   /* The world: radiance colour x strength (W/m^2/sr per unit colour, as Blender's Background)
-   * arriving from every direction; at most one. Rendered as world_directions shadowed
+   * arriving from above the horizon (z > 0), world_below from below; at most one. Rendered as world_directions shadowed
    * directions that together give an unoccluded surface exactly pi x radiance, or unshadowed
    * (docs/WORLD.md). */
   SS_LIGHT_WORLD = 3,
@@ -141,6 +141,9 @@ typedef struct SsLightDesc {
    * radians, [0, pi/2]; POINT, SPOT: the light's radius in scene units; 0: hard. AREA: unused
    * (its size). */
   float soft_size;
+  /* WORLD: the radiance from below the horizon (z < 0), W/m^2/sr, absolute (not times strength):
+   * colour x strength for a uniform world; an environment map's mean below its horizon. */
+  float world_below[3];
 } SsLightDesc;
 
 typedef struct SsCameraDesc {

@@ -60,16 +60,17 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Ir
 }
 
 void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
-                           GLuint transportTables, const float background[4], const glm::vec3& worldRadiance,
-                           const glm::vec3& worldUnshadowed) {
+                           GLuint transportTables, const float background[4], const glm::vec3& worldAbove,
+                           const glm::vec3& worldBelow, bool worldUnshadowed) {
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   GLuint p = finalProgram_.id();
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
   glUniform4fv(uniform(p, "background"), 1, background);
-  glUniform3fv(uniform(p, "worldRadiance"), 1, &worldRadiance.x);
-  glUniform3fv(uniform(p, "worldUnshadowed"), 1, &worldUnshadowed.x);
+  glUniform3fv(uniform(p, "worldAbove"), 1, &worldAbove.x);
+  glUniform3fv(uniform(p, "worldBelow"), 1, &worldBelow.x);
+  glUniform1i(uniform(p, "worldUnshadowed"), worldUnshadowed ? 1 : 0);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);

@@ -22,9 +22,11 @@ class Shading {
                       const SplattingBuffer& splatting, GLuint transportTables);
   // Eq. 7 (with the TABULATED model's exit factor) and the background into `target` (RGBA32F,
   // width x height).
-  // world: the world's radiance and unshadowed remainder (world_light.h: RenderLights).
+  // world: the world's radiance above and below the horizon, and whether it is drawn unshadowed
+  // (world_light.h: RenderLights).
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
-                    const float background[4], const glm::vec3& worldRadiance, const glm::vec3& worldUnshadowed);
+                    const float background[4], const glm::vec3& worldAbove, const glm::vec3& worldBelow,
+                    bool worldUnshadowed);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:

@@ -584,8 +584,12 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
                                               : specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
           color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
         }
-        color += rendered.worldRadiance * specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
-        if (!profile.translucent) color += rendered.unshadowed * profile.baseColor;
+        glm::vec3 mirrored = glm::reflect(-view, n);
+        color += worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, mirrored.z) *
+                 specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
+        glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, n.z)
+                                                : glm::vec3(0.0f);
+        if (!profile.translucent) color += ambient * profile.baseColor;
         if (profile.translucent) {
           glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
                              ? glm::dvec4(0.0)
@@ -603,8 +607,8 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
               if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
               color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize);
             }
-          if (rendered.unshadowed != glm::vec3(0.0f)) {  // final_shading.frag's remainder
-            glm::vec3 world = rendered.unshadowed * profile.world * ft;
+          if (rendered.unshadowed) {  // final_shading.frag's remainder
+            glm::vec3 world = ambient * profile.world * ft;
             if (profile.transport)
               for (int c = 0; c < 3; ++c) {
                 double root = std::sqrt(std::max(1.0 - profile.transport->albedo()[size_t(c)], 0.0));
