@@ -19,18 +19,10 @@ class SoftShadow : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
-    SsMaterialDesc grey{};
-    grey.kind = SS_MATERIAL_OPAQUE;
-    grey.base_color[0] = grey.base_color[1] = grey.base_color[2] = 0.5f;
-    grey.roughness = 1.0f;
-    grey.eta = 1.5f;
+    SsMaterialDesc grey = testing::greyMaterial(0.5f);
     ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
     SsMeshDesc floor = quad.desc(4.0f, 0);
     ASSERT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
-    // A box of 1 x 1 x 1 on the floor, centred on the origin.
-    box = {-0.5f, -0.5f, 1, 0.5f, -0.5f, 1, 0.5f, 0.5f, 1, -0.5f, 0.5f, 1,
-           -0.5f, -0.5f, 0, 0.5f, -0.5f, 0, 0.5f, 0.5f, 0, -0.5f, 0.5f, 0};
-    indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
     setBox();
     SsCameraDesc camera = testing::topDownCamera(2.0f);  // x in [-2, 2] over kSize pixels
     camera.world_to_view[12] = -1.0f;                     // looking at x = 1: the shadow's side
@@ -72,21 +64,16 @@ class SoftShadow : public ::testing::Test {
     };
     return (crossing(0.9) - crossing(0.1)) * 4.0 / kSize;
   }
+  // A box of 1 x 1 x 1 on the floor, centred on the origin.
   void setBox() {
-    SsMeshDesc mesh{};
-    mesh.positions = box.data();
-    mesh.vertex_count = 8;
-    mesh.indices = indices.data();
-    mesh.triangle_count = 12;
-    for (int i = 0; i < 4; ++i) mesh.object_to_world[i * 5] = 1.0f;
+    SsMeshDesc mesh = box.desc(0);
     ASSERT_EQ(ssSetMesh(context, 1, &mesh), SS_OK);
   }
   static constexpr int kSize = 128;
   testing::EglContext gl;
   SsContext context = nullptr;
   testing::Quad quad;
-  std::vector<float> box;
-  std::vector<uint32_t> indices;
+  testing::Box box{glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(0.5f, 0.5f, 1.0f)};
 };
 
 // A sun at 45 degrees with a 10-degree disk: the far edge is cast by the box's top edge, 1.41

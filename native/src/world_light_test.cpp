@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -83,45 +84,22 @@ class World : public ::testing::Test {
       for (int x = x0; x < x1; ++x) sum += rgba[(size_t(y) * size + x) * 4 + c];
     return sum / double((x1 - x0) * (y1 - y0));
   }
-  void setMesh(uint32_t id, const std::vector<float>& positions, const std::vector<uint32_t>& indices,
-               uint32_t material) {
-    SsMeshDesc mesh{};
-    mesh.positions = positions.data();
-    mesh.vertex_count = uint32_t(positions.size() / 3);
-    mesh.indices = indices.data();
-    mesh.triangle_count = uint32_t(indices.size() / 3);
-    mesh.default_material = material;
-    for (int i = 0; i < 4; ++i) mesh.object_to_world[i * 5] = 1.0f;
-    ASSERT_EQ(ssSetMesh(context, id, &mesh), SS_OK) << ssGetLastError();
-  }
   // A closed box from lo to hi, outward winding.
   void setBox(uint32_t id, const glm::vec3& lo, const glm::vec3& hi, uint32_t material) {
-    boxPositions = {lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z,
-                    lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z};
-    boxIndices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2,
-                  2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
-    setMesh(id, boxPositions, boxIndices, material);
+    box = std::make_unique<testing::Box>(lo, hi);
+    SsMeshDesc mesh = box->desc(material);
+    ASSERT_EQ(ssSetMesh(context, id, &mesh), SS_OK) << ssGetLastError();
   }
   testing::EglContext gl;
   SsContext context = nullptr;
   testing::Quad quad;
-  std::vector<float> boxPositions;
-  std::vector<uint32_t> boxIndices;
+  std::unique_ptr<testing::Box> box;
 };
-
-SsMaterialDesc grey(float albedo) {
-  SsMaterialDesc m{};
-  m.kind = SS_MATERIAL_OPAQUE;
-  m.base_color[0] = m.base_color[1] = m.base_color[2] = albedo;
-  m.roughness = 1.0f;
-  m.eta = 1.5f;
-  return m;
-}
 
 // The test: radiance = albedo x world radiance within 2 %, with the world shadowed in 8
 // and 16 directions and unshadowed, for FULL and REFERENCE.
 TEST_F(World, LambertianPlaneUnderAUniformWorldIsAlbedoTimesRadiance) {
-  SsMaterialDesc plane = grey(0.5f);
+  SsMaterialDesc plane = testing::greyMaterial(0.5f);
   ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
   SsMeshDesc mesh = quad.desc(2.0f, 0);
   ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
@@ -142,7 +120,7 @@ TEST_F(World, LambertianPlaneUnderAUniformWorldIsAlbedoTimesRadiance) {
 // A world of two halves (an environment map's means above and below its horizon): a surface facing
 // up gets pi L_above, one facing down pi L_below, a wall the mean; drawn in directions and unshadowed.
 TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
-  SsMaterialDesc plane = grey(0.5f);
+  SsMaterialDesc plane = testing::greyMaterial(0.5f);
   ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
   SsMeshDesc mesh = quad.desc(2.0f, 0);
   ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
@@ -173,7 +151,7 @@ TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
 // sees less of the world than the floor far from it, and FULL agrees with REFERENCE (ray-traced
 // shadows of the same directions) there. Unshadowed, the floor is the same everywhere.
 TEST_F(World, AnObjectShadowsTheFloorBesideIt) {
-  SsMaterialDesc floor = grey(0.5f);
+  SsMaterialDesc floor = testing::greyMaterial(0.5f);
   ASSERT_EQ(ssSetMaterial(context, 0, &floor), SS_OK);
   SsMeshDesc mesh = quad.desc(2.0f, 0);
   ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);

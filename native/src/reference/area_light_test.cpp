@@ -63,11 +63,7 @@ TEST(AreaLightRender, LambertianPlaneUnderASquareLightIsTheClosedForm) {
   testing::EglContext gl;
   SsContext context = nullptr;
   ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
-  SsMaterialDesc grey{};
-  grey.kind = SS_MATERIAL_OPAQUE;
-  grey.base_color[0] = grey.base_color[1] = grey.base_color[2] = 0.5f;
-  grey.roughness = 1.0f;
-  grey.eta = 1.5f;
+  SsMaterialDesc grey = testing::greyMaterial(0.5f);
   ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
   testing::Quad quad;
   SsMeshDesc plane = quad.desc(4.0f, 0);

@@ -23,6 +23,32 @@ SsMeshDesc Quad::desc(float halfSize, uint32_t material) const {
   return d;
 }
 
+Box::Box(const glm::vec3& lo, const glm::vec3& hi)
+    : positions{lo.x, lo.y, hi.z, hi.x, lo.y, hi.z, hi.x, hi.y, hi.z, lo.x, hi.y, hi.z,
+                lo.x, lo.y, lo.z, hi.x, lo.y, lo.z, hi.x, hi.y, lo.z, lo.x, hi.y, lo.z},
+      indices{0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2,
+              2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0} {}
+
+SsMeshDesc Box::desc(uint32_t material) const {
+  SsMeshDesc d{};
+  d.positions = positions.data();
+  d.vertex_count = 8;
+  d.indices = indices.data();
+  d.triangle_count = 12;
+  d.default_material = material;
+  for (int i = 0; i < 4; ++i) d.object_to_world[i * 5] = 1.0f;
+  return d;
+}
+
+SsMaterialDesc greyMaterial(float albedo) {
+  SsMaterialDesc m{};
+  m.kind = SS_MATERIAL_OPAQUE;
+  m.base_color[0] = m.base_color[1] = m.base_color[2] = albedo;
+  m.roughness = 1.0f;
+  m.eta = 1.5f;
+  return m;
+}
+
 Sphere::Sphere(int segments, int rings) {
   for (int r = 0; r <= rings; ++r)
     for (int s = 0; s <= segments; ++s) {

@@ -18,6 +18,17 @@ struct Quad {
   SsMeshDesc desc(float halfSize, uint32_t material) const;
 };
 
+// An axis-aligned box from lo to hi (8 corners, flat normals, outward winding), no UVs.
+struct Box {
+  Box(const glm::vec3& lo, const glm::vec3& hi);
+  std::vector<float> positions;
+  std::vector<uint32_t> indices;
+  SsMeshDesc desc(uint32_t material) const;
+};
+
+// A grey Lambertian opaque material (roughness 1, no specular).
+SsMaterialDesc greyMaterial(float albedo);
+
 // A UV sphere of unit radius with smooth normals; u runs around z, v from
 // the -z pole (0) to the +z pole (1).
 struct Sphere {
