@@ -30,33 +30,21 @@ def render_settings(scene, debug_passes=False, method=None):
 
 
 def background(scene):
-    """RGBA written where no object is hit: transparent, or the world colour."""
+    """RGBA written where no object is hit: transparent, or the world colour (an environment
+    texture's mean over the sphere, docs/WORLD.md)."""
     if scene.render.film_transparent:
         return (0.0, 0.0, 0.0, 0.0)
     world = scene.world
     if world is None:
         return (0.0, 0.0, 0.0, 1.0)
-    if version.uses_nodes(world):
-        node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
-        if node is not None:
-            color = node.inputs["Color"].default_value[:3]
-            linked = node.inputs["Color"].links[0].from_node if node.inputs["Color"].is_linked else None
-            if linked is not None and linked.type == "TEX_ENVIRONMENT" and linked.image is not None:
-                try:  # the mean over the sphere (world_light lights with each half's)
-                    above, below = environment_mean(linked.image)
-                    color = tuple(0.5 * (a + b) for a, b in zip(above, below))
-                except principled.PrincipledError:
-                    pass
-            strength = node.inputs["Strength"].default_value
-            return (color[0] * strength, color[1] * strength, color[2] * strength, 1.0)
-    return (*world.color, 1.0)
+    radiance = _world_radiance(world, [])
+    if radiance is None:
+        return (*world.color, 1.0)
+    above, below, power = radiance
+    return (*(0.5 * (a + b) * power for a, b in zip(above, below)), 1.0)
 
 
 _environment_means = {}
-
-
-def source_name(socket):
-    return socket.links[0].from_node.image.name
 
 
 def environment_mean(image):
@@ -69,50 +57,58 @@ def environment_mean(image):
         values = principled._image_values(image, True)  # (rows, columns, 3), row 0 at the bottom
         rows = values.shape[0]
         latitude = ((np.arange(rows) + 0.5) / rows - 0.5) * np.pi
-        weights = np.cos(latitude)[:, None] * values.mean(axis=1), np.cos(latitude)
+        weights = np.cos(latitude)
+        rows_mean = values.mean(axis=1)
         means = []
         for half in (latitude >= 0.0, latitude < 0.0):
-            total = weights[1][half].sum()
-            mean = weights[0][half].sum(axis=0) / total if total > 0 else values.mean(axis=(0, 1))
+            total = weights[half].sum()
+            mean = (rows_mean[half] * weights[half, None]).sum(axis=0) / total if total > 0 else values.mean(axis=(0, 1))
             means.append(tuple(float(c) for c in mean))
         _environment_means[key] = tuple(means)
     return _environment_means[key]
 
 
-def world_light(scene, warnings):
-    """The world as a Light of type WORLD (its Background colour x strength: the radiance from every
-    direction), or None when it is black; what it renders otherwise than Blender is appended to
-    warnings. docs/WORLD.md"""
-    world = scene.world
-    if world is None:
+def _world_radiance(world, warnings):
+    """The world's radiance above the horizon and below it (RGB per unit strength) and its strength,
+    from its Background node (an equirectangular Environment Texture into its colour: the map's two
+    means), or None for a node tree without a Background node; what is not rendered is appended to
+    warnings."""
+    if not version.uses_nodes(world):
+        return tuple(world.color), tuple(world.color), 1.0
+    node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+    if node is None:
         return None
-    if version.uses_nodes(world):
-        node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
-        if node is None:
-            return None
-        colour, strength = node.inputs["Color"], node.inputs["Strength"]
-        rgb, power = tuple(colour.default_value[:3]), float(strength.default_value)
-        below = rgb
-        source = colour.links[0].from_node if colour.is_linked else None
-        if source is not None and source.type == "TEX_ENVIRONMENT" and source.image is not None:
+    colour, strength = node.inputs["Color"], node.inputs["Strength"]
+    above = below = tuple(colour.default_value[:3])
+    for socket, what in ((colour, "colour"), (strength, "strength")):
+        if not socket.is_linked:
+            continue
+        source = socket.links[0].from_node
+        if socket is colour and source.type == "TEX_ENVIRONMENT" and source.image is not None:
             try:
-                rgb, below = environment_mean(source.image)
-                source = None
-                warnings.append(f"world '{world.name}': its Environment Texture '{source_name(colour)}' lights the "
+                above, below = environment_mean(source.image)
+                warnings.append(f"world '{world.name}': its Environment Texture '{source.image.name}' lights the "
                                 "scene with its mean radiance above the horizon and below it, and is shown as the "
                                 "mean of the two; its directions within each half (a sun, the sky's gradient) are "
                                 "not rendered (docs/WORLD.md)")
+                continue
             except principled.PrincipledError as error:
                 warnings.append(f"world '{world.name}': {error}")
-        for socket, what, linked in ((colour, "colour", source), (strength, "strength", None)):
-            node_from = linked if socket is colour else (socket.links[0].from_node if socket.is_linked else None)
-            if node_from is not None:
-                warnings.append(f"world '{world.name}': its Background {what} is connected to a "
-                                f"{node_from.bl_label} node, which SubSplat does not render; the "
-                                f"world lights the scene with the socket's own {what}, and shows it")
-    else:
-        rgb, power = tuple(world.color), 1.0
-        below = rgb
+        warnings.append(f"world '{world.name}': its Background {what} is connected to a {source.bl_label} node, "
+                        f"which SubSplat does not render; the world lights the scene with the socket's own {what}, "
+                        "and shows it")
+    return above, below, float(strength.default_value)
+
+
+def world_light(scene, warnings):
+    """The world as a Light of type WORLD (its Background colour x strength: the radiance from above
+    the horizon, and from below it), or None when it is black; what it renders otherwise than Blender
+    is appended to warnings. docs/WORLD.md"""
+    world = scene.world
+    radiance = _world_radiance(world, warnings) if world is not None else None
+    if radiance is None:
+        return None
+    rgb, below, power = radiance
     if max(max(rgb), max(below)) * power <= 0.0:
         return None
     return Light(type="WORLD", color=rgb, strength=power, position=(0.0, 0.0, 0.0), direction=(0.0, 0.0, -1.0),

@@ -68,7 +68,6 @@ std::vector<LightView> pointLikeViews(const SsLightDesc& light, const Bounds& tr
     v.shadowTexelSize = texel;
     v.unshadowedOutside = true;
     v.nearDepth = glm::dot(center, dir) - all.radius() - glm::length(all.center() - center);
-    v.softSize = std::tan(0.5f * light.soft_size);
     views.push_back(v);
     return views;
   }
@@ -90,16 +89,17 @@ std::vector<LightView> pointLikeViews(const SsLightDesc& light, const Bounds& tr
 std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
                                   const Bounds& all, int resolution) {
   std::vector<LightView> views = pointLikeViews(light, translucent, all, resolution);
-  float radius = light.soft_size;
-  if (light.type == SS_LIGHT_AREA) {
-    bool twoSizes = light.area_shape == SS_AREA_RECTANGLE || light.area_shape == SS_AREA_ELLIPSE;
-    float w = light.area_size[0], h = twoSizes ? light.area_size[1] : light.area_size[0];
-    bool round = light.area_shape == SS_AREA_DISK || light.area_shape == SS_AREA_ELLIPSE;
-    radius = std::sqrt((round ? 0.25f * float(M_PI) * w * h : w * h) / float(M_PI));
-  }
-  if (light.type != SS_LIGHT_SUN)
-    for (LightView& v : views) v.softSize = radius;
+  for (LightView& v : views) v.softSize = lightSoftSize(light);
   return views;
+}
+
+float lightSoftSize(const SsLightDesc& light) {
+  if (light.type == SS_LIGHT_SUN) return std::tan(0.5f * light.soft_size);
+  if (light.type != SS_LIGHT_AREA) return light.soft_size;
+  bool twoSizes = light.area_shape == SS_AREA_RECTANGLE || light.area_shape == SS_AREA_ELLIPSE;
+  float w = light.area_size[0], h = twoSizes ? light.area_size[1] : light.area_size[0];
+  bool round = light.area_shape == SS_AREA_DISK || light.area_shape == SS_AREA_ELLIPSE;
+  return std::sqrt((round ? 0.25f * float(M_PI) * w * h : w * h) / float(M_PI));  // the disk of its area
 }
 
 }  // namespace subsplat

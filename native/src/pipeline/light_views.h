@@ -28,6 +28,9 @@ struct LightView {
   float nearDepth = 0.0f;
 };
 
+// LightView::softSize of every view of `light`.
+float lightSoftSize(const SsLightDesc& light);
+
 std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
                                   const Bounds& all, int resolution);
 

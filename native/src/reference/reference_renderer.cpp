@@ -407,10 +407,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   };
   // Soft shadows: each light's disk, as the GPU's views have it (light_views.cpp).
   std::vector<float> softSizes;
-  for (const SsLightDesc& l : lights) {
-    std::vector<LightView> views = lightViews(l, scene.bounds(true), scene.bounds(false), 64);
-    softSizes.push_back(views.empty() ? 0.0f : views.front().softSize);
-  }
+  for (const SsLightDesc& l : lights) softSizes.push_back(lightSoftSize(l));
   auto worldOf = [&](size_t i) { return rendered.world[i] ? &rendered.worldDirections : nullptr; };
 
   // 1. Cells: by area, at least one per triangle.
