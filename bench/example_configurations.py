@@ -1,4 +1,4 @@
-"""What bench/world.py and bench/lights.py share: examples rendered with FULL at their own
+"""What bench/world.py, bench/lights.py and bench/antialiasing.py share: examples rendered with FULL at their own
 settings under several configurations, in one run (so that they compare as ratios), each the median
 frame time of some renders, with the library's light views and fragment invocations, printed as a
 table and written as JSON."""
@@ -33,6 +33,7 @@ def measure(example, percentage, runs, configure):
     scene.render.engine = "SUBSPLAT"
     scene.render.resolution_percentage = percentage
     scene.subsplat.method = "FULL"
+    scene.subsplat.samples = 1  # one sample per pixel unless configure() asks for more
     configure(scene)
     times = []
     for _ in range(runs):

@@ -47,6 +47,7 @@ def export(path, directory, profile_model):
     scene.subsplat.irradiance_resolution = 512
     scene.subsplat.levels = LEVELS
     scene.subsplat.method = "FULL"
+    scene.subsplat.samples = 1  # the methods are compared at one sample per pixel
     scene.subsplat.scene_file = os.path.join(directory, f"{name}.ssscene")
     bpy.ops.render.render(write_still=False)
     error = subsplat.last_render_error()

@@ -267,6 +267,7 @@ def subsplat_points(args, name, scene, truth, mask, directory, physical_truth=No
     None."""
     scene.render.engine = "SUBSPLAT"
     scene.subsplat.method = "FULL"
+    scene.subsplat.samples = 1  # the methods are compared at one sample per pixel
     scene.subsplat.scene_file = os.path.join(directory, f"{name}.ssscene")
     bpy.ops.render.render()
     import subsplat

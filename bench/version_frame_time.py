@@ -32,6 +32,7 @@ def main():
     scene.render.engine = "SUBSPLAT"
     scene.render.resolution_percentage = args.percentage
     scene.subsplat.method = "FULL"
+    scene.subsplat.samples = 1  # one sample per pixel, as before anti-aliasing
     scene.render.filepath = os.path.join(tempfile.gettempdir(), "subsplat_version_frame_time.png")
     times = []
     for _ in range(args.runs):

@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 14  # SS_API_VERSION of subsplat.h
+API_VERSION = 15  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -111,7 +111,8 @@ class Settings(ctypes.Structure):
                 ("background", Float4), ("reference_samples", ctypes.c_uint32), ("levels", ctypes.c_int32),
                 ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
                 ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32),
-                ("target_error", ctypes.c_float)]
+                ("target_error", ctypes.c_float), ("samples", ctypes.c_int32), ("filter_width", ctypes.c_float),
+                ("first_sample", ctypes.c_int32)]
 
 
 class Stats(ctypes.Structure):
@@ -125,7 +126,7 @@ class Stats(ctypes.Structure):
                 ("splat_levels", ctypes.c_int32), ("splat_level_ms", ctypes.c_double * 8),
                 ("splat_level_fragments", ctypes.c_uint64 * 8), ("accumulation_ms", ctypes.c_double),
                 ("accumulation_fragments", ctypes.c_uint64), ("irradiance_resolution", ctypes.c_int32),
-                ("texels_per_range", ctypes.c_float)]
+                ("texels_per_range", ctypes.c_float), ("samples", ctypes.c_int32)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -397,6 +398,9 @@ def _settings(settings):
     result.lambda_z = settings.lambda_z
     result.lambda_m = settings.lambda_m
     result.debug_passes = 1 if settings.debug_passes else 0
+    result.samples = settings.samples
+    result.filter_width = settings.filter_width
+    result.first_sample = settings.first_sample
     result.target_error = settings.target_error
     return result
 
@@ -596,4 +600,5 @@ class Context:
             "splat_level_fragments": [int(s.splat_level_fragments[k]) for k in range(max(s.splat_levels, 0))],
             "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
             "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
+            "samples": s.samples,
         }

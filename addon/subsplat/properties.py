@@ -73,6 +73,15 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
     lambda_m: FloatProperty(
         name="Material Sharpness", default=8.0, min=0.0, max=1e4, soft_max=100.0,
         description="Multiresolution: lambda_m of eq. 17 (per millimetre of R_P difference); how strongly upsampling avoids material boundaries")
+    samples: IntProperty(
+        name="Samples", default=8, min=1, max=1024, soft_max=64,
+        description="Anti-aliasing: jittered samples per pixel in final renders, spread by the pixel filter "
+                    "(Film > Pixel Filter's width). The first is splatted; each other costs a pass over the "
+                    "scene and its lights' shadow maps, not a splatting (docs/ANTIALIASING.md)")
+    viewport_samples: IntProperty(
+        name="Viewport Samples", default=8, min=1, max=1024, soft_max=64,
+        description="Anti-aliasing in the viewport: each redraw adds one jittered sample, up to this many; any "
+                    "change starts again from the first")
     world_directions: IntProperty(
         name="World Directions", default=0, min=-1, max=64,
         description="The world's light: the directions it casts shadows from (each costs about what a sun "

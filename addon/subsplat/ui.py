@@ -31,6 +31,9 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.use_property_split = True
         settings = context.scene.subsplat
         layout.prop(settings, "method")
+        samples = layout.column(align=True)
+        samples.prop(settings, "samples")
+        samples.prop(settings, "viewport_samples")
         layout.prop(settings, "viewport_scale")
         layout.prop(settings, "world_directions")
         if settings.method == "REFERENCE":

@@ -118,6 +118,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   floats(in, &settings.lambda_z, 1);
   floats(in, &settings.lambda_m, 1);
   settings.debug_passes = in.ConsumeIntegralInRange<int32_t>(0, 1);
+  settings.samples = in.ConsumeIntegralInRange<int32_t>(-1, 4);  // a few: each is a frame's passes again
+  floats(in, &settings.filter_width, 1);
+  settings.first_sample = in.ConsumeIntegralInRange<int32_t>(-1, 1000001);
   ssSetSettings(context, &settings);
   const int32_t width = in.ConsumeIntegralInRange<int32_t>(-1, 12);
   const int32_t height = in.ConsumeIntegralInRange<int32_t>(-1, 12);

@@ -233,6 +233,9 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsSettings, lambda_m),
     SS_FIELD(SsSettings, debug_passes),
     SS_FIELD(SsSettings, target_error),
+    SS_FIELD(SsSettings, samples),
+    SS_FIELD(SsSettings, filter_width),
+    SS_FIELD(SsSettings, first_sample),
     SS_STRUCT(SsStats),
     SS_FIELD(SsStats, frame_ms),
     SS_FIELD(SsStats, stage_ms),
@@ -256,6 +259,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsStats, accumulation_fragments),
     SS_FIELD(SsStats, irradiance_resolution),
     SS_FIELD(SsStats, texels_per_range),
+    SS_FIELD(SsStats, samples),
     SS_STRUCT(SsResourceCounts),
     SS_FIELD(SsResourceCounts, contexts),
     SS_FIELD(SsResourceCounts, profile_sets),
@@ -343,6 +347,9 @@ SsSettings ssDefaultSettings(void) {
   s.lambda_m = Renderer::kDefaultLambda;
   s.debug_passes = 0;
   s.target_error = Renderer::kDefaultTargetError;
+  s.samples = 1;
+  s.filter_width = Renderer::kDefaultFilterWidth;
+  s.first_sample = 0;
   return s;
 }
 

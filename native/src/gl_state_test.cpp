@@ -167,6 +167,7 @@ class GlState : public ::testing::Test {
     settings.method = SS_METHOD_FULL;
     settings.irradiance_resolution = 128;
     settings.levels = 4;
+    settings.samples = 3;  // anti-aliasing's passes and blending too
     ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
   }
   // The rendered image and its exitance pass, one after the other.

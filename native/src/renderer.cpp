@@ -9,9 +9,24 @@
 
 #include "pipeline/auto_quality.h"
 #include "util/error.h"
+#include "util/pixel_filter.h"
 #include "world_light.h"
 
 namespace subsplat {
+
+namespace {
+// Puts the host's camera back however a frame ends (the samples jitter it).
+struct CameraRestore {
+  Scene& scene;
+  SsCameraDesc camera;
+  ~CameraRestore() {
+    try {
+      scene.setCamera(camera);
+    } catch (...) {  // it was accepted before: cannot fail
+    }
+  }
+};
+}  // namespace
 
 Renderer::Renderer() {
   if (epoxy_gl_version() < 43)
@@ -49,6 +64,13 @@ void Renderer::setSettings(const SsSettings& s) {
   if (s.irradiance_resolution > maxTextureSize_)
     fail(SS_LIMIT_EXCEEDED, "irradiance resolution " + std::to_string(s.irradiance_resolution) +
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
+  require(s.samples >= 0 && s.samples <= kMaxSamples,
+          "samples must be 0 (one) or in [1, " + std::to_string(kMaxSamples) + "], got " + std::to_string(s.samples));
+  require(std::isfinite(s.filter_width) && (s.filter_width == 0.0f || (s.filter_width >= 0.01f && s.filter_width <= 10.0f)),
+          "filter width must be 0 (the default, 1.5 pixels) or in [0.01, 10] pixels, got " +
+              std::to_string(s.filter_width));
+  require(s.first_sample >= 0 && s.first_sample <= 1000000,
+          "first sample must be in [0, 1e6], got " + std::to_string(s.first_sample));
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
@@ -58,6 +80,8 @@ void Renderer::setSettings(const SsSettings& s) {
   if (settings_.lambda_z == 0.0f) settings_.lambda_z = kDefaultLambda;
   if (settings_.lambda_m == 0.0f) settings_.lambda_m = kDefaultLambda;
   if (settings_.target_error == 0.0f) settings_.target_error = kDefaultTargetError;
+  if (settings_.samples == 0) settings_.samples = 1;
+  if (settings_.filter_width == 0.0f) settings_.filter_width = kDefaultFilterWidth;
 }
 
 void Renderer::uploadMaterials() {
@@ -140,6 +164,18 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_ = SsStats{};
   StageProfiler& profiler = profiler_;
   profiler.newFrame();
+  // Anti-aliasing (docs/ANTIALIASING.md): the first sample is splatted; the others see the scene
+  // through their own jittered cameras, with their own direct light, and the first's exitance.
+  const SsCameraDesc camera = scene_.camera();
+  CameraRestore restore{scene_, camera};
+  int samples = settings_.samples;
+  auto sampleCamera = [&](int s) {
+    int index = settings_.first_sample + s;
+    return index == 0 ? camera
+                      : jitteredCamera(camera, pixelFilterOffset(index, settings_.filter_width), width, height);
+  };
+  const SsCameraDesc first = sampleCamera(0);
+  scene_.setCamera(first);
   profiler.begin(SS_STAGE_BUFFERS);
   splatting_.render(scene_, gpuScene_);
   splatting_.buildHierarchy(scene_.camera());
@@ -157,31 +193,80 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange(scene_) / coarsest) : 0.0f;
   int res = irradiance_.resolution();
   RenderLights lights = renderLights(scene_);
-  for (size_t i = 0; i < lights.lights.size(); ++i) {
+  std::vector<LightView> views;
+  for (size_t i = 0; i < lights.lights.size(); ++i)
     for (LightView view : lightViews(lights.lights[i], translucent, all, res)) {
       if (lights.world[i]) view.worldDirections = &lights.worldDirections;
-      profiler.begin(SS_STAGE_BUFFERS);
-      irradiance_.render(scene_, gpuScene_, view);
-      if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
-      if (adaptive) irradiance_.buildHierarchy();
-      profiler.end();
-      if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
-      profiler.begin(SS_STAGE_SHADING);
-      shading_.directLighting(scene_, view, irradiance_, splatting_, kernels.transport);
-      profiler.end();
-      ++stats_.light_views;
-      gl::checkErrors("light view");
+      views.push_back(view);
     }
+  shadowCopies_.reset();
+  for (size_t i = 0; i < views.size(); ++i) {
+    const LightView& view = views[i];
+    profiler.begin(SS_STAGE_BUFFERS);
+    irradiance_.render(scene_, gpuScene_, view);
+    if (samples > 1) shadowCopies_.keep(i, irradiance_, scene_.tabulated());
+    if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
+    if (adaptive) irradiance_.buildHierarchy();
+    profiler.end();
+    if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
+    profiler.begin(SS_STAGE_SHADING);
+    shading_.directLighting(scene_, view, irradiance_.shadowInputs(), splatting_, kernels.transport);
+    profiler.end();
+    ++stats_.light_views;
+    gl::checkErrors("light view");
   }
   if (!translucent.empty()) {  // (one level: only keeps the debug copy)
     splats_.accumulate(scene_, splatting_, {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()},
                        profiler);
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
+  float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
   shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background,
-                        lights.worldRadiance, lights.worldBelow, lights.unshadowed);
+                        lights.worldRadiance, lights.worldBelow, lights.unshadowed, samples > 1 ? weight : 1.0f, true);
   profiler.end();
+
+  if (samples > 1) {
+    gl::Purpose purpose("the anti-aliasing buffers (" + std::to_string(width) + " x " + std::to_string(height) +
+                        " pixels; lower the render resolution)");
+    sampleBuffer_.resize(width, height, 1);
+    reprojection_.resize(width, height);
+  }
+  for (int s = 1; s < samples; ++s) {
+    scene_.setCamera(sampleCamera(s));
+    profiler.begin(SS_STAGE_BUFFERS);
+    sampleBuffer_.render(scene_, gpuScene_);
+    profiler.end();
+    shading_.clear();
+    // Each view's shadow map as the first sample kept it; one past the copies' budget is drawn again.
+    for (size_t i = 0; i < views.size(); ++i) {
+      const ShadowInputs* kept = shadowCopies_.find(i);
+      if (kept == nullptr) {
+        profiler.begin(SS_STAGE_BUFFERS);
+        irradiance_.render(scene_, gpuScene_, views[i]);
+        profiler.end();
+        ++stats_.light_views;
+      }
+      profiler.begin(SS_STAGE_SHADING);
+      shading_.directLighting(scene_, views[i], kept ? *kept : irradiance_.shadowInputs(), sampleBuffer_,
+                              kernels.transport);
+      profiler.end();
+      gl::checkErrors("anti-aliasing sample");
+    }
+    profiler.begin(SS_STAGE_SHADING);
+    GLuint exitance = 0;
+    if (!translucent.empty()) {
+      reprojection_.reproject(first, splatting_, splats_.exitance(), scene_.camera(), sampleBuffer_);
+      exitance = reprojection_.exitance();
+    } else {
+      exitance = splats_.exitance();  // no translucent pixel reads it
+    }
+    shading_.finalShading(scene_, sampleBuffer_, exitance, kernels.transport, settings_.background, lights.worldRadiance,
+                          lights.worldBelow, lights.unshadowed, weight, false);
+    profiler.end();
+  }
+  scene_.setCamera(camera);
+  stats_.samples = samples;
 
   profiler.begin(SS_STAGE_READBACK);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, shading_.resultFramebuffer());
@@ -203,6 +288,9 @@ void Renderer::renderReference(int width, int height, float* rgba) {
   ReferenceOptions options;
   options.samples = settings_.reference_samples;
   options.background = glm::make_vec4(settings_.background);
+  options.pixelSamples = settings_.samples;
+  options.firstSample = settings_.first_sample;
+  options.filterWidth = settings_.filter_width;
   SsStats stats{};
   reference_.render(scene_, options, width, height, rgba, progress_, stats);
   stats_ = stats;

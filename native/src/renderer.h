@@ -4,6 +4,7 @@
 #include "pipeline/coverage.h"
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
+#include "pipeline/reprojection.h"
 #include "pipeline/shading.h"
 #include "pipeline/splatting.h"
 #include "pipeline/splatting_buffer.h"
@@ -21,6 +22,9 @@ class Renderer {
   static constexpr float kDefaultLambda = 8.0f;
   // Automatic irradiance resolution (pipeline/auto_quality.h, docs/AUTO.md).
   static constexpr float kDefaultTargetError = 0.01f;
+  // Anti-aliasing (docs/ANTIALIASING.md): Blender's default pixel filter width, and the most samples.
+  static constexpr float kDefaultFilterWidth = 1.5f;
+  static constexpr int kMaxSamples = 1024;
   Renderer();
   Scene& scene() { return scene_; }
   const Scene& scene() const { return scene_; }
@@ -48,7 +52,10 @@ class Renderer {
   SsSettings settings_ = ssDefaultSettings();
   SsStats stats_{};
   IrradianceBuffer irradiance_;
-  SplattingBuffer splatting_;
+  SplattingBuffer splatting_;      // the first sample's
+  SplattingBuffer sampleBuffer_;   // the other samples' (anti-aliasing), one at a time
+  ExitanceReprojection reprojection_;
+  ShadowCopies shadowCopies_;      // the first sample's shadow maps, for the others
   Splatting splats_;
   Shading shading_;
   Coverage coverage_;

@@ -18,12 +18,13 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 4;
+constexpr uint32_t kFormatVersion = 5;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
 // and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
-// light record (no world_directions and area fields: there were no world and area lights).
+// light record (no world_directions and area fields: there were no world and area lights); formats
+// 2 to 4 a shorter settings record (no anti-aliasing fields: one sample at the pixel's centre).
 constexpr uint32_t kOldestFormatVersion = 1;
-constexpr size_t kSettingsBytesV1 = 14 * 4;
+constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
 constexpr uint32_t kMeshHasUvs = 1;
 
@@ -38,8 +39,9 @@ static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&
                   offsetof(SsLightDesc, world_directions) == kLightBytesV3 &&
-                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 15 * 4 &&
-                  offsetof(SsSettings, target_error) == kSettingsBytesV1,
+                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 18 * 4 &&
+                  offsetof(SsSettings, target_error) == kSettingsBytesV1 &&
+                  offsetof(SsSettings, samples) == kSettingsBytesV4,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "scene files are little-endian");
 
@@ -207,9 +209,9 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
         break;
       case kSettings: {
         SsSettings settings{};
-        if (version == 1) {
-          std::vector<char> v1 = r.getArray<char>(kSettingsBytesV1);
-          std::memcpy(&settings, v1.data(), v1.size());
+        if (version <= 4) {
+          std::vector<char> old = r.getArray<char>(version == 1 ? kSettingsBytesV1 : kSettingsBytesV4);
+          std::memcpy(&settings, old.data(), old.size());
         } else {
           settings = r.get<SsSettings>();
         }

@@ -207,9 +207,9 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
       std::memcpy(&bytes[at + 8], &shorter, 8);
       size = shorter;
     }
-    if (tag == 5) {  // settings: drop target_error, the last field
+    if (tag == 5) {  // settings: drop the fields from target_error on
       ASSERT_EQ(size, sizeof(SsSettings));
-      uint64_t shorter = size - 4;
+      uint64_t shorter = offsetof(SsSettings, target_error);
       std::memcpy(&bytes[at + 8], &shorter, 8);
       bytes.erase(bytes.begin() + std::ptrdiff_t(at + 16 + shorter), bytes.begin() + std::ptrdiff_t(at + 16 + size));
       size = shorter;
@@ -228,6 +228,57 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
   EXPECT_EQ(loaded.method, SS_METHOD_FULL);
   EXPECT_FLOAT_EQ(loaded.target_error, 0.01f) << "format 1 takes the default target";
   EXPECT_EQ(ssReleaseContext(old), SS_OK);
+}
+
+// Format 5 keeps the anti-aliasing settings; format 4 (before them) loads as one sample at the
+// pixel's centre with Blender's default filter, its other settings as written.
+TEST_F(SceneFile, AntiAliasingSettingsRoundTripAndFormatFourTakesOneSample) {
+  SsMaterialDesc opaque{};
+  opaque.kind = SS_MATERIAL_OPAQUE;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
+  SsSettings settings = ssDefaultSettings();
+  settings.target_error = 0.05f;
+  settings.samples = 8;
+  settings.filter_width = 2.5f;
+  settings.first_sample = 3;
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
+  SsContext loaded = nullptr;
+  ASSERT_EQ(ssNewContext(&loaded), SS_OK);
+  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  SsSettings got{};
+  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  EXPECT_EQ(got.samples, 8);
+  EXPECT_FLOAT_EQ(got.filter_width, 2.5f);
+  EXPECT_EQ(got.first_sample, 3);
+
+  std::vector<char> bytes = fileBytes();
+  uint32_t four = 4;
+  std::memcpy(&bytes[8], &four, 4);
+  size_t at = 16, found = 0;
+  while (at + 16 <= bytes.size()) {
+    uint32_t tag;
+    uint64_t size;
+    std::memcpy(&tag, &bytes[at], 4);
+    std::memcpy(&size, &bytes[at + 8], 8);
+    if (tag == 5) {  // settings: drop the fields from samples on
+      uint64_t shorter = offsetof(SsSettings, samples);
+      std::memcpy(&bytes[at + 8], &shorter, 8);
+      bytes.erase(bytes.begin() + std::ptrdiff_t(at + 16 + shorter), bytes.begin() + std::ptrdiff_t(at + 16 + size));
+      size = shorter;
+      ++found;
+    }
+    at += 16 + size;
+  }
+  ASSERT_EQ(found, 1u);
+  writeBytes(bytes, bytes.size());
+  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  EXPECT_EQ(got.samples, 1);
+  EXPECT_FLOAT_EQ(got.filter_width, 1.5f);
+  EXPECT_EQ(got.first_sample, 0);
+  EXPECT_FLOAT_EQ(got.target_error, 0.05f);
+  EXPECT_EQ(ssReleaseContext(loaded), SS_OK);
 }
 
 }  // namespace

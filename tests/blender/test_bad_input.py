@@ -319,6 +319,34 @@ class BadInputTable(unittest.TestCase):
             with self.subTest(text=text):
                 self.assertIn(text, output)
 
+    def test_a_world_output_without_a_background_is_said_and_lights_nothing(self):
+        """The world's light comes from the Background node its active World Output shows: another
+        shader there is named in a warning and lights nothing; a Background left unconnected lights
+        nothing, as in Blender, without a word; the one connected is used, not the first in the tree."""
+        from subsplat.export import settings as export_settings
+        s = scene(light=False)
+        world = s.world
+        world.use_nodes = True
+        tree = world.node_tree
+        output = next(n for n in tree.nodes if n.type == "OUTPUT_WORLD")
+        emission = tree.nodes.new("ShaderNodeEmission")
+        tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+        warnings = []
+        self.assertIsNone(export_settings.world_light(s, warnings))
+        self.assertEqual(len(warnings), 1, warnings)
+        self.assertIn("its World Output's Surface is a Emission node, which SubSplat does not render", warnings[0])
+        tree.links.remove(output.inputs["Surface"].links[0])
+        warnings = []
+        self.assertIsNone(export_settings.world_light(s, warnings))
+        self.assertEqual(warnings, [])
+        unused = tree.nodes["Background"]
+        unused.inputs["Color"].default_value = (1.0, 0.0, 0.0, 1.0)
+        shown = tree.nodes.new("ShaderNodeBackground")
+        shown.inputs["Color"].default_value = (0.0, 0.5, 0.0, 1.0)
+        tree.links.new(shown.outputs["Background"], output.inputs["Surface"])
+        light = export_settings.world_light(s, [])
+        self.assertEqual(tuple(round(c, 3) for c in light.color), (0.0, 0.5, 0.0))
+
     def test_degenerate_cases_render_finite_images(self):
         for name, build in DEGENERATE.items():
             with self.subTest(case=name):

@@ -6,6 +6,8 @@ screenshots and the viewport's counters (subsplat.last_viewport()):
 - the header (its left third: editor type, mode, menus) and the properties editor look the same
   as with Workbench in Rendered shading in the same spot;
 - a camera move redraws without exporting a mesh, a material or the lights again;
+- anti-aliasing: each redraw adds a sample up to Viewport Samples, then redraws render nothing, and
+  a camera move starts again;
 - a material edit sends that material again (and no mesh) and changes the image;
 - a light move sends the lights again (and no mesh) and brightens the side it moves to.
 
@@ -138,6 +140,41 @@ def steps():
     moved = crop_region(screenshot("light_moved"), region(view_area, "WINDOW"))
     left_after = moved[:, : moved.shape[1] // 2].mean()
     check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
+
+    # Anti-aliasing (docs/ANTIALIASING.md): each redraw adds a jittered sample, up to Viewport Samples;
+    # redraws past it render nothing; a camera move starts again from the first.
+    def sampled(count, timeout=60.0):
+        waited = 0.0
+        while subsplat.last_viewport().get("sample", 0) < count and waited < timeout:
+            redraw()
+            yield 0.1
+            waited += 0.1
+    check(subsplat.last_viewport()["sample"] == 1, "one sample while Viewport Samples is 1")
+    before = subsplat.last_viewport()
+    scene.subsplat.viewport_samples = 4
+    yield from sampled(4)
+    after = subsplat.last_viewport()
+    check(after["sample"] == 4, f"the viewport refines to 4 samples ({after['sample']})")
+    check(after["samples_rendered"] - before["samples_rendered"] == 3,
+          f"by rendering 3 more ({before['samples_rendered']} -> {after['samples_rendered']})")
+    displays = after["displays"]
+    waited = 0.0
+    while subsplat.last_viewport()["displays"] <= displays and waited < 30.0:
+        redraw()
+        yield 0.1
+        waited += 0.1
+    idle = subsplat.last_viewport()
+    check(idle["displays"] > displays and idle["samples_rendered"] == after["samples_rendered"],
+          f"a redraw at 4 samples renders nothing ({displays} -> {idle['displays']} displays)")
+    view.region_3d.view_perspective = "PERSP"  # out of the camera's view, then turned a little
+    view.region_3d.view_rotation.rotate(__import__("mathutils").Euler((0.0, 0.0, 0.05)))
+    yield from drawn(subsplat, idle["draws"], timeout=30.0, settle=0.0)
+    moved = subsplat.last_viewport()
+    check(moved["sample"] < 4, f"a camera move starts the samples again ({moved['sample']})")
+    yield from sampled(4)
+    refined = subsplat.last_viewport()
+    check(refined["sample"] == 4 and refined["samples_rendered"] >= idle["samples_rendered"] + 4,
+          f"and refines to 4 again ({refined['sample']}, {refined['samples_rendered']} rendered)")
     changes = subsplat.last_viewport()["gl_state_changes"]
     check(changes == [], f"no draw left Blender's GL state changed ({changes})")
 

@@ -50,6 +50,7 @@ def main():
                 scene.render.engine = "SUBSPLAT"
                 scene.render.resolution_percentage = args.percentage
                 scene.subsplat.method = method
+                scene.subsplat.samples = 1  # the golden images are of one sample per pixel
                 scene.subsplat.reference_samples = args.reference_samples
                 scene.frame_set(frame)
                 scene.render.image_settings.file_format = "OPEN_EXR"

@@ -34,6 +34,8 @@ def enable_addon():
     addon_utils.enable("subsplat", default_set=True)
     import subsplat
     subsplat.diagnostics.exit_on_error = False
+    from . import one_sample
+    one_sample.pin()
     return subsplat
 
 
@@ -153,14 +155,18 @@ def write_difference(name, ours, reference):
     return path
 
 
-def blender_command(*args):
-    """Another Blender process with the add-on staged by the build."""
+def blender_command(*args, one_sample=True):
+    """Another Blender process with the add-on staged by the build; one_sample: scenes that do not
+    set their samples render one (one_sample.py)."""
+    from . import one_sample as pin
     executable = os.environ.get("BLENDER", bpy.app.binary_path)
-    return [executable, "-b", "--factory-startup", "--addons", "subsplat", *args]
+    return [executable, "-b", "--factory-startup", "--addons", "subsplat",
+            *(["--python-expr", pin.EXPRESSION] if one_sample else []), *args]
 
 
-def run_blender(*args, timeout=600, env=None):
-    return subprocess.run(blender_command(*args), capture_output=True, text=True, timeout=timeout, env=env)
+def run_blender(*args, timeout=600, env=None, one_sample=True):
+    return subprocess.run(blender_command(*args, one_sample=one_sample), capture_output=True, text=True,
+                          timeout=timeout, env=env)
 
 
 def failed_batch_render(name):

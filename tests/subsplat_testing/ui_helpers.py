@@ -84,6 +84,8 @@ def enable_addon():
     addon_utils.enable("subsplat", default_set=True)
     import subsplat
     subsplat.diagnostics.exit_on_error = False
+    from . import one_sample
+    one_sample.pin()
     return subsplat
 
 

@@ -51,6 +51,8 @@ def render_image(engine, depsgraph, preview):
     frame.camera = export.camera.bordered(frame.camera, border, full_width, full_height)
     width, height = border[2], border[3]
     export_ms = (time.perf_counter() - start) * 1e3
+    debug = settings.debug_passes and settings.method != "REFERENCE"
+    render_settings = export_settings.render_settings(scene, debug, warnings=frame.warnings)
     if not preview:  # the material preview scene's area lights are Blender's, not the user's
         for warning in frame.warnings:
             engine.report({"WARNING"}, f"SubSplat: {warning}")
@@ -68,12 +70,12 @@ def render_image(engine, depsgraph, preview):
             context.set_mesh(object_id, mesh)
         context.set_lights(frame.lights)
         context.set_camera(frame.camera)
-        debug = settings.debug_passes and settings.method != "REFERENCE"
-        context.set_settings(export_settings.render_settings(scene, debug))
+        context.set_settings(render_settings)
 
         progress = None
         if settings.method == "REFERENCE":
-            engine.update_stats("", f"SubSplat Reference: {settings.reference_samples} surface samples")
+            engine.update_stats("", f"SubSplat Reference: {settings.reference_samples} surface samples, "
+                                    f"{render_settings.samples} per pixel")
 
             def progress(fraction):
                 return report_progress(engine, fraction)
@@ -87,6 +89,7 @@ def render_image(engine, depsgraph, preview):
             stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
             context.save_scene(stats["scene_file"])
         stats.update(method=settings.method, preview=preview, export_ms=export_ms, meshes=len(frame.meshes),
+                     filter_width=render_settings.filter_width,
                      lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
         diagnostics.set_render_stats(stats)
         passes = {EXITANCE_PASS: exitance}
@@ -112,7 +115,7 @@ def render_image(engine, depsgraph, preview):
     else:
         detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['splat_count']} splats, "
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
-    engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {detail}")
+    engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['samples']} samples, {detail}")
 
 
 def scene_file_path(setting, frame):

@@ -35,10 +35,13 @@ class Counters:
         self.material_exports = 0  # materials described and sent
         self.light_exports = 0     # times the lights were sent
         self.full_syncs = 0
-        self.draws = 0
+        self.draws = 0             # redraws that rendered (a sample)
+        self.displays = 0          # every redraw, also those that only showed the image again
         self.gl_state_changes = []  # with diagnostics.check_gl_state: GL state the library left changed
         self.update_ms = 0.0       # the last view_update: depsgraph to library (exports included)
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
+        self.samples_rendered = 0  # anti-aliasing samples rendered, over all views
+        self.sample = 0            # samples in the image shown now (restarts at 1 after any change)
 
     def as_dict(self):
         return dict(vars(self))
@@ -66,6 +69,12 @@ class ViewportSession:
         self.pending_lights = None
         self.pending_settings = None
         self.world = None  # the world light last sent (export.data.Light), or None
+        # Anti-aliasing (docs/ANTIALIASING.md): the samples of the image shown, summed, and what
+        # they were rendered for (size and view); a change of either, or anything sent, restarts it.
+        self.accumulated = None
+        self.samples = 0
+        self.view_key = None
+        self.context_first_sample = 0  # SsSettings.first_sample the native context holds
 
     # -- updates -----------------------------------------------------------------------------
 
@@ -156,7 +165,8 @@ class ViewportSession:
             self.counters.light_exports += 1
 
         scene = depsgraph.scene
-        sync = settings.render_settings(scene, method=VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method))
+        sync = settings.render_settings(scene, method=VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method),
+                                        viewport_sample=0, warnings=self.frame.warnings)
         if self.settings is None or sync != self.settings:
             self.pending_settings = sync
             self.settings = sync
@@ -184,13 +194,17 @@ class ViewportSession:
         self.free_ids.append(object_id)
 
     def _send_pending(self):
-        """Sends what view_update() found changed; the viewport's GL context is current."""
+        """Sends what view_update() found changed; the viewport's GL context is current. True when
+        anything was sent (the image shown is then out of date)."""
+        sent = bool(self.context is None or self.pending_materials or self.pending_removals or self.pending_meshes
+                    or self.pending_lights is not None or self.pending_settings is not None)
         if self.context is None:
             budget_warning = preferences.memory_budget_warning()
             if budget_warning:
                 self.report({"WARNING"}, f"SubSplat: {budget_warning}")
             native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
+            self.context_first_sample = 0
         # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
         # the memory budget) is sent again by the next draw.
         for material_id, material in list(self.pending_materials.items()):
@@ -208,7 +222,9 @@ class ViewportSession:
             self.pending_lights = None
         if self.pending_settings is not None:
             self.context.set_settings(self.pending_settings)
+            self.context_first_sample = self.pending_settings.first_sample
             self.pending_settings = None
+        return sent
 
     # -- drawing -----------------------------------------------------------------------------
 
@@ -222,21 +238,42 @@ class ViewportSession:
         width, height = max(region.width // divisor, 1), max(region.height // divisor, 1)
         start = time.perf_counter()
         state = native.gl_state() if diagnostics.check_gl_state else None
+        target = scene.subsplat.viewport_samples
         try:
-            self._send_pending()
-            self.context.set_camera(camera.view_data(view, self.frame.origin))
-            pixels = self.context.render(width, height)
+            sent = self._send_pending()
+            view_camera = camera.view_data(view, self.frame.origin)
+            view_key = (width, height, view_camera)
+            if sent or view_key != self.view_key:
+                self.accumulated, self.samples, self.view_key = None, 0, view_key
+            rendered = self.samples < target or self.accumulated is None
+            if rendered:
+                # Each redraw adds one jittered sample to the image shown, up to viewport_samples.
+                if self.samples != self.context_first_sample:
+                    self.context.set_settings(dataclasses.replace(self.settings, first_sample=self.samples))
+                    self.context_first_sample = self.samples
+                self.context.set_camera(view_camera)
+                pixels = self.context.render(width, height)
+                self.accumulated = pixels.astype(np.float64) if self.samples == 0 else self.accumulated + pixels
+                self.samples += 1
+                self.counters.samples_rendered += 1
+                self.stats = self.context.stats()
             frame_ms = (time.perf_counter() - start) * 1e3
-            self.stats = self.context.stats()
         except native.SubsplatError as error:
             self.error = str(error)
+            self.accumulated, self.samples = None, 0
             engine.update_stats("", f"SubSplat: {error}")
             print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
             return
+        self.counters.sample = self.samples
+        if self.samples < target:
+            engine.tag_redraw()  # the next sample
+        pixels = self.accumulated / self.samples
         if state is not None:
             changes = native.changed_gl_state(state, native.gl_state())
             self.counters.gl_state_changes = sorted(set(self.counters.gl_state_changes) | set(changes))
-        self.counters.draws += 1
+        self.counters.displays += 1
+        if rendered:
+            self.counters.draws += 1
         pixels = np.ascontiguousarray(pixels, dtype=np.float32)
         texture = gpu.types.GPUTexture((width, height), format="RGBA16F",
                                        data=gpu.types.Buffer("FLOAT", pixels.size, pixels))
@@ -247,7 +284,8 @@ class ViewportSession:
         gpu.state.blend_set("NONE")
         self.counters.draw_ms = (time.perf_counter() - start) * 1e3
         method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
-        engine.update_stats("", f"SubSplat {method}: {frame_ms:.0f} ms at {width} x {height}, "
+        engine.update_stats("", f"SubSplat {method}: sample {self.samples}/{target}, "
+                                f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "
                                 f"{self.stats['splat_levels']} splatting levels")

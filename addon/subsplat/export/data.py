@@ -97,3 +97,6 @@ class Settings:
     lambda_m: float = 0.0
     debug_passes: bool = False
     target_error: float = 0.0
+    samples: int = 1
+    filter_width: float = 0.0
+    first_sample: int = 0

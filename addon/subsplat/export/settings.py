@@ -9,11 +9,22 @@ from .data import Light, Settings
 SMALLEST_WEIGHT = 1e-30
 
 
-def render_settings(scene, debug_passes=False, method=None):
-    """The scene's settings; method replaces the scene's (the viewport shows FULL for REFERENCE)."""
+# The pixel filter widths the library takes (SsSettings.filter_width).
+FILTER_WIDTH_RANGE = (0.01, 10.0)
+
+
+def render_settings(scene, debug_passes=False, method=None, viewport_sample=None, warnings=None):
+    """The scene's settings; method replaces the scene's (the viewport shows FULL for REFERENCE).
+    viewport_sample: the viewport's k-th sample alone (it adds one per redraw); else a final render's
+    `samples`. warnings: where to say that the pixel filter's width is out of the library's range."""
     settings = scene.subsplat
     result = Settings(method=method or settings.method, background=background(scene),
                       reference_samples=settings.reference_samples)
+    if viewport_sample is None:
+        result.samples = settings.samples
+    else:
+        result.samples, result.first_sample = 1, viewport_sample
+    result.filter_width = filter_width(scene, warnings if warnings is not None else [])
     if settings.quality == "AUTO":  # 0: the library's automatic resolution and levels, default thresholds
         result.irradiance_resolution = 0
         result.target_error = settings.target_error
@@ -27,6 +38,18 @@ def render_settings(scene, debug_passes=False, method=None):
     result.lambda_m = settings.lambda_m or SMALLEST_WEIGHT
     result.debug_passes = bool(debug_passes)
     return result
+
+
+def filter_width(scene, warnings):
+    """Film > Pixel Filter's width (Blender's filter_size, the Blackman-Harris window's half-support
+    in pixels), within the range the library takes."""
+    size = float(scene.render.filter_size)
+    low, high = FILTER_WIDTH_RANGE
+    clamped = min(max(size, low), high)
+    if clamped != size:
+        warnings.append(f"the pixel filter's width {size:g} px is outside SubSplat's {low:g} to {high:g} px; "
+                        f"it is rendered at {clamped:g} px")
+    return clamped
 
 
 def background(scene):
@@ -70,12 +93,12 @@ def environment_mean(image):
 
 def _world_radiance(world, warnings):
     """The world's radiance above the horizon and below it (RGB per unit strength) and its strength,
-    from its Background node (an equirectangular Environment Texture into its colour: the map's two
-    means), or None for a node tree without a Background node; what is not rendered is appended to
-    warnings."""
+    from the Background node its World Output shows (an equirectangular Environment Texture into its
+    colour: the map's two means), or None when it shows none (black, as in Blender); what is not
+    rendered is appended to warnings."""
     if not version.uses_nodes(world):
         return tuple(world.color), tuple(world.color), 1.0
-    node = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"), None)
+    node = _world_surface(world, warnings)
     if node is None:
         return None
     colour, strength = node.inputs["Color"], node.inputs["Strength"]
@@ -98,6 +121,25 @@ def _world_radiance(world, warnings):
                         f"which SubSplat does not render; the world lights the scene with the socket's own {what}, "
                         "and shows it")
     return above, below, float(strength.default_value)
+
+
+def _world_surface(world, warnings):
+    """The Background node that the world's active World Output takes as its surface, or None: no
+    output, or nothing connected (Blender's world is black then too), or another node, which is said
+    in warnings."""
+    outputs = [n for n in world.node_tree.nodes if n.type == "OUTPUT_WORLD"]
+    output = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
+    if output is None or not output.inputs["Surface"].is_linked:
+        return None
+    source = output.inputs["Surface"].links[0].from_node
+    while source.type == "REROUTE" and source.inputs[0].is_linked:
+        source = source.inputs[0].links[0].from_node
+    if source.type != "BACKGROUND":
+        warnings.append(f"world '{world.name}': its World Output's Surface is a {source.bl_label} node, which "
+                        "SubSplat does not render (a Background node is); the world neither lights the scene nor "
+                        "shows")
+        return None
+    return source
 
 
 def world_light(scene, warnings):

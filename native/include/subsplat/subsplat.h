@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 14
+#define SS_API_VERSION 15
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -178,6 +178,15 @@ typedef struct SsSettings {
   /* Automatic irradiance resolution: the relative RMSE against REFERENCE to aim for,
    * in [1e-3, 0.5], or 0 for the default, 0.01. Unused at a fixed resolution. */
   float target_error;
+  /* Anti-aliasing (docs/ANTIALIASING.md): jittered samples per ssRender in [1, 1024]
+   * (0: 1), their pixel offsets drawn from Blender's Blackman-Harris pixel filter of
+   * filter_width pixels in [0.01, 10] (0: 1.5, Blender's default), and the index of the
+   * first in the sequence, in [0, 1e6] (the viewport renders one sample per redraw: sample
+   * k of a frame is samples = 1, first_sample = k). Sample 0 is the pixel's centre. The
+   * GPU methods splat the first sample only and carry its exitance to the others. */
+  int32_t samples;
+  float filter_width;
+  int32_t first_sample;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -222,6 +231,8 @@ typedef struct SsStats {
    * on the light view whose texels on the translucent objects are coarsest. */
   int32_t irradiance_resolution;
   float texels_per_range;
+  /* Jittered samples rendered (anti-aliasing); light_views counts every sample's. */
+  int32_t samples;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

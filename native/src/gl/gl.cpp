@@ -365,6 +365,7 @@ StateGuard::StateGuard() {
   glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask_);
   glGetBooleanv(GL_COLOR_WRITEMASK, colorMask_);
   glGetFloatv(GL_COLOR_CLEAR_VALUE, clearColor_);
+  glGetFloatv(GL_BLEND_COLOR, blendColor_);
   glGetFloatv(GL_DEPTH_CLEAR_VALUE, &clearDepth_);
   glGetFloatv(GL_DEPTH_RANGE, depthRange_);
   glGetIntegerv(GL_CLIP_ORIGIN, &clipOrigin_);
@@ -430,6 +431,7 @@ StateGuard::~StateGuard() {
   glDepthMask(depthMask_);
   glColorMask(colorMask_[0], colorMask_[1], colorMask_[2], colorMask_[3]);
   glClearColor(clearColor_[0], clearColor_[1], clearColor_[2], clearColor_[3]);
+  glBlendColor(blendColor_[0], blendColor_[1], blendColor_[2], blendColor_[3]);
   glClearDepth(clearDepth_);
   glDepthRange(depthRange_[0], depthRange_[1]);
   glClipControl(GLenum(clipOrigin_), GLenum(clipDepth_));

@@ -174,7 +174,7 @@ class StateGuard {
   GLboolean depthMask_ = GL_TRUE, colorMask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
   GLboolean blend_ = 0, depthTest_ = 0, cullFace_ = 0, scissorTest_ = 0, stencilTest_ = 0;
   GLboolean programPointSize_ = 0, framebufferSrgb_ = 0;
-  GLfloat clearColor_[4] = {}, clearDepth_ = 1.0f, depthRange_[2] = {0.0f, 1.0f};
+  GLfloat clearColor_[4] = {}, blendColor_[4] = {}, clearDepth_ = 1.0f, depthRange_[2] = {0.0f, 1.0f};
   GLint clipOrigin_ = GL_LOWER_LEFT, clipDepth_ = GL_NEGATIVE_ONE_TO_ONE, polygonMode_[2] = {};
   GLboolean depthClamp_ = 0, polygonOffsetFill_ = 0;
 };

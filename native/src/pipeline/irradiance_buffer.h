@@ -10,6 +10,13 @@
 
 namespace subsplat {
 
+// What the direct-lighting pass reads of a light view's irradiance buffer (level 0): the light
+// depth, and for TABULATED materials the position and normal.
+struct ShadowInputs {
+  GLuint lightDepth = 0, positionMaterial = 0, normalObject = 0;
+  int resolution = 0;
+};
+
 class IrradianceBuffer {
  public:
   // levels: 1 for BRUTE; the hierarchy's depth for the adaptive methods.
@@ -32,6 +39,9 @@ class IrradianceBuffer {
   GLuint fluxFootprint() const { return fluxFootprint_.id(); }
   GLuint normalObject() const { return normalObject_.id(); }
   GLuint lightDepth() const { return lightDepth_.id(); }
+  ShadowInputs shadowInputs() const {
+    return {lightDepth_.id(), positionMaterial_.id(), normalObject_.id(), resolution_};
+  }
   // r: light depth of the nearest surface facing away from the light, g: its object index, ba: its
   // normal (octahedral)
   // (applyIncidence; empty until it ran at this size).

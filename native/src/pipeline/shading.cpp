@@ -28,7 +28,7 @@ void Shading::clear() {
   glClearBufferfv(GL_COLOR, 0, zero);
 }
 
-void Shading::directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+void Shading::directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
                              const SplattingBuffer& splatting, GLuint transportTables) {
   glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
   glViewport(0, 0, width_, height_);
@@ -39,18 +39,18 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Ir
   glUseProgram(p);
   setLightUniforms(p, view);
   setCameraUniforms(p, scene.camera());
-  glUniform1i(uniform(p, "resolution"), irradiance.resolution());
+  glUniform1i(uniform(p, "resolution"), shadow.resolution);
   glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
   glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
   glUniform1f(uniform(p, "lightSoftSize"), view.softSize);
   glUniform1f(uniform(p, "lightNearDepth"), view.nearDepth);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
+  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, shadow.lightDepth);
   glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
   if (scene.tabulated()) {
-    bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, irradiance.positionMaterial());
-    bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, irradiance.normalObject());
+    bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, shadow.positionMaterial);
+    bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, shadow.normalObject);
     setTransportUniforms(p, transportTables);
   }
   glBindVertexArray(empty_.id());
@@ -61,9 +61,20 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Ir
 
 void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
                            GLuint transportTables, const float background[4], const glm::vec3& worldAbove,
-                           const glm::vec3& worldBelow, bool worldUnshadowed) {
+                           const glm::vec3& worldBelow, bool worldUnshadowed, float weight, bool first) {
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
   glViewport(0, 0, width_, height_);
+  bool accumulate = weight != 1.0f;
+  if (accumulate) {
+    if (first) {
+      const float zero[4] = {0, 0, 0, 0};
+      glClearBufferfv(GL_COLOR, 0, zero);
+    }
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE);
+    glBlendColor(0.0f, 0.0f, 0.0f, weight);
+  }
   GLuint p = finalProgram_.id();
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
@@ -79,6 +90,7 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
+  glDisable(GL_BLEND);
 }
 
 }  // namespace subsplat

@@ -18,15 +18,16 @@ class Shading {
   // Direct light of one light view (diffuse, specular, shadows) and, for TABULATED materials, the
   // light it sends through thin parts (material/transport_model.h); transportTables:
   // MaterialTables::transport().
-  void directLighting(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+  void directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
                       const SplattingBuffer& splatting, GLuint transportTables);
   // Eq. 7 (with the TABULATED model's exit factor) and the background into `target` (RGBA32F,
   // width x height).
   // world: the world's radiance above and below the horizon, and whether it is drawn unshadowed
-  // (world_light.h: RenderLights).
+  // (world_light.h: RenderLights). Anti-aliasing: the frame's image is the samples' mean; each
+  // sample adds `weight` times its own (weight 1: written alone), and `first` clears the target.
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
                     const float background[4], const glm::vec3& worldAbove, const glm::vec3& worldBelow,
-                    bool worldUnshadowed);
+                    bool worldUnshadowed, float weight = 1.0f, bool first = true);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:

@@ -16,6 +16,7 @@
 #include "reference/ray_scene.h"
 #include "util/camera.h"
 #include "util/error.h"
+#include "util/pixel_filter.h"
 #include "world_light.h"
 
 namespace subsplat {
@@ -534,89 +535,106 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
                     glm::length(scene.bounds(false).center()) + 1.0f;  // past the scene from any point in it
   exitance_.assign(size_t(width) * height * 4, 0.0f);
   std::atomic<uint64_t> evaluationsTotal{0};
+  // Anti-aliasing (docs/ANTIALIASING.md): each pixel's jittered samples, their mean.
+  std::vector<glm::vec2> offsets;
+  for (int s = 0; s < options.pixelSamples; ++s)
+    offsets.push_back(options.firstSample + s == 0 ? glm::vec2(0.0f)
+                                                   : pixelFilterOffset(options.firstSample + s, options.filterWidth));
+  struct Shaded {
+    glm::vec4 color, exitance;
+  };
   parallelFor(size_t(height), 1, [&](size_t begin, size_t end) {
     uint64_t evaluations = 0;
+    // The colour and exitance seen through the image point `ndc`.
+    auto shade = [&](glm::vec2 ndc) -> Shaded {
+      glm::vec4 exitance(0.0f);
+      glm::vec4 nearH = clipToWorld * glm::vec4(ndc, -1.0f, 1.0f), farH = clipToWorld * glm::vec4(ndc, 1.0f, 1.0f);
+      glm::vec3 nearP = glm::vec3(nearH) / nearH.w, farP = glm::vec3(farH) / farH.w;
+      glm::vec3 direction = farP - nearP;
+      float length = glm::length(direction);
+      Hit hit = length > 0.0f ? rays.intersect(nearP, direction / length, 0.0f, length) : Hit{};
+      if (!hit.valid()) {
+        return Shaded{options.background, glm::vec4(0.0f)};
+      }
+      const WorldMesh& m = meshes[size_t(hit.mesh)];
+      glm::uvec3 tri = m.triangle(hit.triangle);
+      glm::vec3 w(1.0f - hit.u - hit.v, hit.u, hit.v);
+      glm::vec3 p = interpolate(m.positions, tri, w);
+      glm::vec3 ng = glm::normalize(glm::cross(m.positions[tri.y] - m.positions[tri.x], m.positions[tri.z] - m.positions[tri.x]));
+      glm::vec3 n = interpolate(m.normals, tri, w);
+      n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
+      glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
+      if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
+      const Profile& profile = profiles[entryAt(m, hit.triangle, w)];
+      if (profile.holdout) {  // a hole in the image, alpha 0 (final_shading.frag)
+        return Shaded{glm::vec4(0.0f), glm::vec4(0.0f)};
+      }
+
+      glm::vec3 color(0.0f);
+      for (size_t li = 0; li < lights.size(); ++li) {
+        LightSample ls = lightAt(li, p, n);
+        float nl = glm::dot(n, ls.towardsLight);
+        if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
+        float soft = softSizes[li];
+        float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, soft, lights[li].type == SS_LIGHT_SUN)
+                                       : visible(rays, p, ng, ls) ? 1.0f : 0.0f;
+        if (visibility <= 0.0f) continue;
+        ls.irradiance *= visibility;
+        glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
+        // The world's specular reflection is its remainder's, below (world_light.h).
+        float specular = rendered.world[li] ? 0.0f
+                                            : specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
+        color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
+      }
+      glm::vec3 mirrored = glm::reflect(-view, n);
+      color += worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, mirrored.z) *
+               specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
+      glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, n.z)
+                                              : glm::vec3(0.0f);
+      if (!profile.translucent) color += ambient * profile.baseColor;
+      if (profile.translucent) {
+        glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
+                           ? glm::dvec4(0.0)
+                           : exitanceAt(objects[size_t(hit.mesh)], p, n, profile, entries, profiles, evaluations);
+        float mu = glm::dot(n, view);
+        float ft = float(fresnelTransmittance(profile.eta, mu));
+        glm::dvec3 exitFactor(1.0);
+        double sum = b.x + b.y + b.z;
+        if (profile.transport && sum > 0.0)
+          for (int c = 0; c < 3; ++c) exitFactor[c] = profile.transport->exit(c, b.w / sum, mu);
+        color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI));
+        if (profile.transport)
+          for (size_t li = 0; li < lights.size(); ++li) {
+            LightSample ls = sampleLight(lights[li], p);
+            if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
+            color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize);
+          }
+        if (rendered.unshadowed) {  // final_shading.frag's remainder
+          glm::vec3 world = ambient * profile.world * ft;
+          if (profile.transport)
+            for (int c = 0; c < 3; ++c) {
+              double root = std::sqrt(std::max(1.0 - profile.transport->albedo()[size_t(c)], 0.0));
+              world[c] *= float(1.0 - root * profile.transport->h(c, mu));
+            }
+          color += world;
+        }
+        exitance = glm::vec4(float(b.x), float(b.y), float(b.z), 1.0f);
+      }
+      return Shaded{glm::vec4(color, 1.0f), exitance};
+    };
     for (size_t y = begin; y < end; ++y)
       for (int x = 0; x < width; ++x) {
         size_t pixel = y * size_t(width) + size_t(x);
-        float* out = rgba + 4 * pixel;
-        glm::vec2 ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, (float(y) + 0.5f) / float(height) * 2.0f - 1.0f);
-        glm::vec4 nearH = clipToWorld * glm::vec4(ndc, -1.0f, 1.0f), farH = clipToWorld * glm::vec4(ndc, 1.0f, 1.0f);
-        glm::vec3 nearP = glm::vec3(nearH) / nearH.w, farP = glm::vec3(farH) / farH.w;
-        glm::vec3 direction = farP - nearP;
-        float length = glm::length(direction);
-        Hit hit = length > 0.0f ? rays.intersect(nearP, direction / length, 0.0f, length) : Hit{};
-        if (!hit.valid()) {
-          for (int c = 0; c < 4; ++c) out[c] = options.background[c];
-          continue;
+        glm::vec4 color(0.0f), exitance(0.0f);
+        for (glm::vec2 offset : offsets) {
+          glm::vec2 ndc((float(x) + 0.5f + offset.x) / float(width) * 2.0f - 1.0f,
+                        (float(y) + 0.5f + offset.y) / float(height) * 2.0f - 1.0f);
+          Shaded shaded = shade(ndc);
+          color += shaded.color, exitance += shaded.exitance;
         }
-        const WorldMesh& m = meshes[size_t(hit.mesh)];
-        glm::uvec3 tri = m.triangle(hit.triangle);
-        glm::vec3 w(1.0f - hit.u - hit.v, hit.u, hit.v);
-        glm::vec3 p = interpolate(m.positions, tri, w);
-        glm::vec3 ng = glm::normalize(glm::cross(m.positions[tri.y] - m.positions[tri.x], m.positions[tri.z] - m.positions[tri.x]));
-        glm::vec3 n = interpolate(m.normals, tri, w);
-        n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
-        glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
-        if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
-        const Profile& profile = profiles[entryAt(m, hit.triangle, w)];
-        if (profile.holdout) {  // a hole in the image, alpha 0 (final_shading.frag)
-          for (int c = 0; c < 4; ++c) out[c] = 0.0f;
-          continue;
-        }
-
-        glm::vec3 color(0.0f);
-        for (size_t li = 0; li < lights.size(); ++li) {
-          LightSample ls = lightAt(li, p, n);
-          float nl = glm::dot(n, ls.towardsLight);
-          if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
-          float soft = softSizes[li];
-          float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, soft, lights[li].type == SS_LIGHT_SUN)
-                                         : visible(rays, p, ng, ls) ? 1.0f : 0.0f;
-          if (visibility <= 0.0f) continue;
-          ls.irradiance *= visibility;
-          glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
-          // The world's specular reflection is its remainder's, below (world_light.h).
-          float specular = rendered.world[li] ? 0.0f
-                                              : specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
-          color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
-        }
-        glm::vec3 mirrored = glm::reflect(-view, n);
-        color += worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, mirrored.z) *
-                 specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
-        glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, n.z)
-                                                : glm::vec3(0.0f);
-        if (!profile.translucent) color += ambient * profile.baseColor;
-        if (profile.translucent) {
-          glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
-                             ? glm::dvec4(0.0)
-                             : exitanceAt(objects[size_t(hit.mesh)], p, n, profile, entries, profiles, evaluations);
-          float mu = glm::dot(n, view);
-          float ft = float(fresnelTransmittance(profile.eta, mu));
-          glm::dvec3 exitFactor(1.0);
-          double sum = b.x + b.y + b.z;
-          if (profile.transport && sum > 0.0)
-            for (int c = 0; c < 3; ++c) exitFactor[c] = profile.transport->exit(c, b.w / sum, mu);
-          color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI));
-          if (profile.transport)
-            for (size_t li = 0; li < lights.size(); ++li) {
-              LightSample ls = sampleLight(lights[li], p);
-              if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
-              color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize);
-            }
-          if (rendered.unshadowed) {  // final_shading.frag's remainder
-            glm::vec3 world = ambient * profile.world * ft;
-            if (profile.transport)
-              for (int c = 0; c < 3; ++c) {
-                double root = std::sqrt(std::max(1.0 - profile.transport->albedo()[size_t(c)], 0.0));
-                world[c] *= float(1.0 - root * profile.transport->h(c, mu));
-              }
-            color += world;
-          }
-          float* e = exitance_.data() + 4 * pixel;
-          e[0] = float(b.x), e[1] = float(b.y), e[2] = float(b.z), e[3] = 1.0f;
-        }
-        out[0] = color.x, out[1] = color.y, out[2] = color.z, out[3] = 1.0f;
+        float weight = 1.0f / float(offsets.size());
+        for (int c = 0; c < 4; ++c) rgba[4 * pixel + size_t(c)] = color[c] * weight;
+        for (int c = 0; c < 4; ++c) exitance_[4 * pixel + size_t(c)] = exitance[c] * weight;
       }
     evaluationsTotal += evaluations;
   }, progress, 0.1, 0.9);
@@ -625,6 +643,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   stats.width = width;
   stats.height = height;
   stats.splat_count = totalSamples;
+  stats.samples = options.pixelSamples;
   stats.kernel_evaluations = evaluationsTotal.load();
   stats.stage_ms[SS_STAGE_BUFFERS] = samplesMs;
   stats.stage_ms[SS_STAGE_SPLATTING] = msSince(pixelsStart);

@@ -29,6 +29,10 @@ namespace subsplat {
 struct ReferenceOptions {
   uint64_t samples = 200000;      // over all translucent surfaces
   glm::vec4 background{0.0f};
+  // Anti-aliasing: jittered camera rays per pixel, the sequence's first index, the filter's
+  // width (SsSettings: samples, first_sample, filter_width).
+  int pixelSamples = 1, firstSample = 0;
+  float filterWidth = 1.5f;
 };
 
 class ReferenceRenderer {

@@ -3,8 +3,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <functional>
 #include <sstream>
 
 namespace subsplat::testing {
@@ -152,6 +158,47 @@ std::string changedLines(const std::string& before, const std::string& after) {
   while (std::getline(a, x) && std::getline(b, y))
     if (x != y) out += x + " -> " + y.substr(y.find('=') + 1) + "\n";
   return out;
+}
+
+}  // namespace subsplat::testing
+
+namespace subsplat::testing {
+
+std::string writeComparison(const std::string& name, const std::vector<float>& ours,
+                            const std::vector<float>& reference, int width, int height) {
+  const char* env = std::getenv("SUBSPLAT_TEST_OUTPUT");
+  std::filesystem::path folder = env ? env : "test_output";
+  std::filesystem::create_directories(folder);
+  double mean = 0.0;
+  size_t pixels = size_t(width) * height;
+  for (size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) mean += reference[4 * i + size_t(c)] / double(3 * pixels);
+  auto write = [&](const std::string& suffix, const std::function<glm::vec3(size_t)>& colour) {
+    std::vector<uint8_t> bytes(pixels * 3);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        glm::vec3 c = glm::clamp(colour(size_t(height - 1 - y) * width + x), 0.0f, 1.0f);
+        for (int k = 0; k < 3; ++k) bytes[(size_t(y) * width + x) * 3 + size_t(k)] = uint8_t(std::lround(255.0f * c[k]));
+      }
+    std::string path = (folder / (name + "_" + suffix + ".png")).string();
+    auto out = OIIO::ImageOutput::create(path);
+    if (out && out->open(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8))) {
+      out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+      out->close();
+    }
+    return path;
+  };
+  auto display = [](float v) { return std::pow(std::max(v, 0.0f), 1.0f / 2.2f); };
+  write("ours", [&](size_t i) { return glm::vec3(display(ours[4 * i]), display(ours[4 * i + 1]), display(ours[4 * i + 2])); });
+  write("reference", [&](size_t i) {
+    return glm::vec3(display(reference[4 * i]), display(reference[4 * i + 1]), display(reference[4 * i + 2]));
+  });
+  return write("difference", [&](size_t i) {
+    double d = 0.0;
+    for (int c = 0; c < 3; ++c) d += std::abs(ours[4 * i + size_t(c)] - reference[4 * i + size_t(c)]) / 3.0;
+    float t = float(std::clamp(d / std::max(mean, 1e-12) * 10.0, 0.0, 1.0));
+    return glm::vec3(t, 1.0f - std::abs(2.0f * t - 1.0f), 1.0f - t);
+  });
 }
 
 }  // namespace subsplat::testing

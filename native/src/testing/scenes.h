@@ -57,3 +57,14 @@ SsLightDesc sunLight(float strength, float incidenceDegrees);
 std::string changedLines(const std::string& before, const std::string& after);
 
 }  // namespace subsplat::testing
+
+namespace subsplat::testing {
+
+// Writes `ours`, `reference` (width x height RGBA, bottom row first) and a false-colour
+// |ours - reference| / mean(reference) image (x10: 10 % is full red) as PNGs named
+// <name>_ours.png, <name>_reference.png and <name>_difference.png into $SUBSPLAT_TEST_OUTPUT (else
+// test_output/), for a person to look at when an image test fails. Returns the difference's path.
+std::string writeComparison(const std::string& name, const std::vector<float>& ours,
+                            const std::vector<float>& reference, int width, int height);
+
+}  // namespace subsplat::testing

@@ -1,0 +1,87 @@
+#include "pipeline/reprojection.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+
+#include "util/error.h"
+
+namespace subsplat {
+
+bool ShadowCopies::keep(size_t index, const IrradianceBuffer& irradiance, bool withSurface) {
+  int r = irradiance.resolution();
+  size_t bytes = size_t(r) * size_t(r) * (withSurface ? 36 : 4);
+  if ((index + 1) * bytes > kBudgetBytes) return false;
+  if (copies_.size() <= index) copies_.resize(index + 1);
+  Copy& copy = copies_[index];
+  if (copy.resolution != r || copy.withSurface != withSurface) {
+    copy = Copy{};
+    try {
+      gl::Purpose purpose("a copy of a shadow map for the anti-aliasing samples");
+      copy.depth = gl::makeTexture2D(GL_R32F, r, r);
+      if (withSurface) {
+        copy.position = gl::makeTexture2D(GL_RGBA32F, r, r);
+        copy.normal = gl::makeTexture2D(GL_RGBA32F, r, r);
+      }
+    } catch (const Error& e) {
+      if (e.status() != SS_LIMIT_EXCEEDED) throw;
+      copy = Copy{};  // past the memory budget: this view's shadow map is drawn again per sample
+      return false;
+    }
+    copy.resolution = r;
+    copy.withSurface = withSurface;
+  }
+  ShadowInputs source = irradiance.shadowInputs();
+  glCopyImageSubData(source.lightDepth, GL_TEXTURE_2D, 0, 0, 0, 0, copy.depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, r, r, 1);
+  if (withSurface) {
+    glCopyImageSubData(source.positionMaterial, GL_TEXTURE_2D, 0, 0, 0, 0, copy.position.id(), GL_TEXTURE_2D, 0, 0, 0,
+                       0, r, r, 1);
+    glCopyImageSubData(source.normalObject, GL_TEXTURE_2D, 0, 0, 0, 0, copy.normal.id(), GL_TEXTURE_2D, 0, 0, 0, 0, r,
+                       r, 1);
+  }
+  if (kept_.size() <= index) kept_.resize(index + 1);
+  kept_[index] = {copy.depth.id(), copy.position.id(), copy.normal.id(), r};
+  return true;
+}
+
+const ShadowInputs* ShadowCopies::find(size_t index) const {
+  return index < kept_.size() && kept_[index].resolution > 0 ? &kept_[index] : nullptr;
+}
+
+void ExitanceReprojection::resize(int width, int height) {
+  if (!program_) {
+    program_ = gl::makeProgram("fullscreen.vert", "", "reproject_exitance.frag");
+    empty_ = gl::makeVertexArray();
+  }
+  if (width == width_ && height == height_) return;
+  width_ = height_ = 0;  // as in IrradianceBuffer::resize
+  framebuffer_.reset();
+  exitance_.reset();
+  exitance_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  framebuffer_ = gl::makeFramebuffer({exitance_.id()}, 0);
+  width_ = width;
+  height_ = height;
+}
+
+void ExitanceReprojection::reproject(const SsCameraDesc& first, const SplattingBuffer& firstBuffer,
+                                     GLuint firstExitance, const SsCameraDesc& camera, const SplattingBuffer& sample) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, width_, height_);
+  GLuint p = program_.id();
+  glUseProgram(p);
+  glm::mat4 viewProj = glm::make_mat4(first.view_to_clip) * glm::make_mat4(first.world_to_view);
+  glUniformMatrix4fv(uniform(p, "firstViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+  setCameraUniforms(p, camera);
+  // A pixel's height in view space at distance 1 (perspective) or in all (orthographic): 2 / (h P11).
+  float p11 = std::abs(camera.view_to_clip[5]);
+  glUniform1f(uniform(p, "pixelSpread"), p11 > 0.0f ? 2.0f / (float(height_) * p11) : 0.0f);
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, sample.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, sample.normalMaterial());
+  bindTexture(gl::UNIT_FIRST_SAMPLE_POSITION_OBJECT, GL_TEXTURE_2D, firstBuffer.positionObject());
+  bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, firstExitance);
+  glBindVertexArray(empty_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+}  // namespace subsplat
