@@ -115,7 +115,8 @@ def render_image(engine, depsgraph, preview):
     else:
         detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['splat_count']} splats, "
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
-    engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {stats['samples']} samples, {detail}")
+    samples = f"{stats['samples']} sample" + ("s" if stats["samples"] != 1 else "")
+    engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {samples}, {detail}")
 
 
 def scene_file_path(setting, frame):
