@@ -112,7 +112,7 @@ class Settings(ctypes.Structure):
                 ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
                 ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32),
                 ("target_error", ctypes.c_float), ("samples", ctypes.c_int32), ("filter_width", ctypes.c_float),
-                ("first_sample", ctypes.c_int32)]
+                ("first_sample", ctypes.c_int32), ("shadow_resolution", ctypes.c_int32)]
 
 
 class Stats(ctypes.Structure):
@@ -126,7 +126,8 @@ class Stats(ctypes.Structure):
                 ("splat_levels", ctypes.c_int32), ("splat_level_ms", ctypes.c_double * 8),
                 ("splat_level_fragments", ctypes.c_uint64 * 8), ("accumulation_ms", ctypes.c_double),
                 ("accumulation_fragments", ctypes.c_uint64), ("irradiance_resolution", ctypes.c_int32),
-                ("texels_per_range", ctypes.c_float), ("samples", ctypes.c_int32)]
+                ("texels_per_range", ctypes.c_float), ("samples", ctypes.c_int32),
+                ("shadow_resolution", ctypes.c_int32)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -401,6 +402,7 @@ def _settings(settings):
     result.samples = settings.samples
     result.filter_width = settings.filter_width
     result.first_sample = settings.first_sample
+    result.shadow_resolution = settings.shadow_resolution
     result.target_error = settings.target_error
     return result
 
@@ -600,5 +602,5 @@ class Context:
             "splat_level_fragments": [int(s.splat_level_fragments[k]) for k in range(max(s.splat_levels, 0))],
             "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
             "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
-            "samples": s.samples,
+            "samples": s.samples, "shadow_resolution": s.shadow_resolution,
         }

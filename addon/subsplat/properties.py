@@ -82,6 +82,11 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Viewport Samples", default=8, min=1, max=1024, soft_max=64,
         description="Anti-aliasing in the viewport: each redraw adds one jittered sample, up to this many; any "
                     "change starts again from the first")
+    shadow_resolution: IntProperty(
+        name="Shadow Resolution", default=0, min=0, max=8192, soft_max=4096,
+        description="Texels per side of each light view's shadow map (hard shadows); 0 chooses them so that a "
+                    "texel is no larger than a pixel of the image, up to 2048 (the render stats say what was "
+                    "chosen). Soft shadows and the light through thin parts use the irradiance buffer's")
     world_directions: IntProperty(
         name="World Directions", default=0, min=-1, max=64,
         description="The world's light: the directions it casts shadows from (each costs about what a sun "

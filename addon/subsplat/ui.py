@@ -36,6 +36,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         samples.prop(settings, "viewport_samples")
         layout.prop(settings, "viewport_scale")
         layout.prop(settings, "world_directions")
+        layout.prop(settings, "shadow_resolution")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
             layout.prop(settings, "scene_file")

@@ -5,6 +5,10 @@
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
+// The hard shadows' map at its own resolution (pipeline/shadow_map.h; irradianceLightDepth when the
+// same).
+layout(binding = UNIT_SHADOW_DEPTH) uniform sampler2D shadowDepth;
+uniform int shadowResolution;
 uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;
@@ -107,15 +111,19 @@ void main() {
   vec3 ndc = clip.xyz / clip.w;
   bool inside = clip.w > 0.0 && all(lessThan(abs(ndc.xy), vec2(1.0)));
   float visibility = 1.0;
-  if (inside) {
-    ivec2 t = clamp(ivec2((ndc.xy * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
-    float stored = texelFetch(irradianceLightDepth, t, 0).r;
+  if (inside && lightSoftSize > 0.0) {  // on the irradiance buffer's map: the penumbra's taps span it
     float depth = lightType == LIGHT_SUN ? dot(offset, lightDirection) : distance(offset, lightPosition);
-    visibility = depth <= stored + 2.0 * texel ? 1.0 : 0.0;
-    if (lightSoftSize > 0.0) {
-      float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
-      visibility = softVisibility(ndc.xy, depth, texel, slope, p);
-    }
+    float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
+    visibility = softVisibility(ndc.xy, depth, texel, slope, p);
+  } else if (inside) {  // on the shadow map, its texels and bias its own
+    float fineTexel = texel * float(resolution) / float(shadowResolution);
+    vec3 fine = p + n * (1.5 * fineTexel);
+    vec4 c = lightViewProj * vec4(fine, 1.0);
+    vec2 q = c.xy / c.w;
+    ivec2 t = clamp(ivec2((q * 0.5 + 0.5) * float(shadowResolution)), ivec2(0), ivec2(shadowResolution - 1));
+    float stored = texelFetch(shadowDepth, t, 0).r;
+    float depth = lightType == LIGHT_SUN ? dot(fine, lightDirection) : distance(fine, lightPosition);
+    visibility = depth <= stored + 2.0 * fineTexel ? 1.0 : 0.0;
   } else if (unshadowedOutside == 0) {
     discard;
   }

@@ -71,6 +71,11 @@ void Renderer::setSettings(const SsSettings& s) {
               std::to_string(s.filter_width));
   require(s.first_sample >= 0 && s.first_sample <= 1000000,
           "first sample must be in [0, 1e6], got " + std::to_string(s.first_sample));
+  require(s.shadow_resolution == 0 || (s.shadow_resolution >= 16 && s.shadow_resolution <= 8192),
+          "shadow resolution must be 0 (automatic) or in [16, 8192], got " + std::to_string(s.shadow_resolution));
+  if (s.shadow_resolution > maxTextureSize_)
+    fail(SS_LIMIT_EXCEEDED, "shadow resolution " + std::to_string(s.shadow_resolution) +
+                                " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
@@ -199,18 +204,36 @@ void Renderer::render(int width, int height, float* rgba) {
       if (lights.world[i]) view.worldDirections = &lights.worldDirections;
       views.push_back(view);
     }
+  // Hard shadows on a map of their own resolution (docs/SOFT_SHADOWS.md, "Shadow maps").
+  int shadowResolution = settings_.shadow_resolution > 0
+                             ? settings_.shadow_resolution
+                             : chooseShadowResolution(scene_, views, all, width, height, res, maxTextureSize_);
+  bool ownShadowMap = shadowResolution != res;
+  if (ownShadowMap) {
+    gl::Purpose purpose("the shadow maps (" + std::to_string(shadowResolution) + " x " +
+                        std::to_string(shadowResolution) + " texels; lower the shadow resolution)");
+    shadowMap_.resize(shadowResolution);
+  }
+  stats_.shadow_resolution = shadowResolution;
+  // The direct light's inputs of the view just rendered.
+  auto shadowInputs = [&] {
+    ShadowInputs inputs = irradiance_.shadowInputs();
+    if (ownShadowMap) inputs.shadowDepth = shadowMap_.lightDepth(), inputs.shadowResolution = shadowResolution;
+    return inputs;
+  };
   shadowCopies_.reset();
   for (size_t i = 0; i < views.size(); ++i) {
     const LightView& view = views[i];
     profiler.begin(SS_STAGE_BUFFERS);
     irradiance_.render(scene_, gpuScene_, view);
-    if (samples > 1) shadowCopies_.keep(i, irradiance_, scene_.tabulated());
+    if (ownShadowMap) shadowMap_.render(scene_, gpuScene_, view);
+    if (samples > 1) shadowCopies_.keep(i, shadowInputs(), scene_.tabulated());
     if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
     if (adaptive) irradiance_.buildHierarchy();
     profiler.end();
     if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
     profiler.begin(SS_STAGE_SHADING);
-    shading_.directLighting(scene_, view, irradiance_.shadowInputs(), splatting_, kernels.transport);
+    shading_.directLighting(scene_, view, shadowInputs(), splatting_, kernels.transport);
     profiler.end();
     ++stats_.light_views;
     gl::checkErrors("light view");
@@ -244,12 +267,12 @@ void Renderer::render(int width, int height, float* rgba) {
       if (kept == nullptr) {
         profiler.begin(SS_STAGE_BUFFERS);
         irradiance_.render(scene_, gpuScene_, views[i]);
+        if (ownShadowMap) shadowMap_.render(scene_, gpuScene_, views[i]);
         profiler.end();
         ++stats_.light_views;
       }
       profiler.begin(SS_STAGE_SHADING);
-      shading_.directLighting(scene_, views[i], kept ? *kept : irradiance_.shadowInputs(), sampleBuffer_,
-                              kernels.transport);
+      shading_.directLighting(scene_, views[i], kept ? *kept : shadowInputs(), sampleBuffer_, kernels.transport);
       profiler.end();
       gl::checkErrors("anti-aliasing sample");
     }

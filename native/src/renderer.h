@@ -5,6 +5,7 @@
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
 #include "pipeline/reprojection.h"
+#include "pipeline/shadow_map.h"
 #include "pipeline/shading.h"
 #include "pipeline/splatting.h"
 #include "pipeline/splatting_buffer.h"
@@ -56,6 +57,7 @@ class Renderer {
   SplattingBuffer sampleBuffer_;   // the other samples' (anti-aliasing), one at a time
   ExitanceReprojection reprojection_;
   ShadowCopies shadowCopies_;      // the first sample's shadow maps, for the others
+  ShadowMap shadowMap_;            // the hard shadows' map, when its resolution is not the irradiance's
   Splatting splats_;
   Shading shading_;
   Coverage coverage_;

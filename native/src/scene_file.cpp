@@ -39,7 +39,7 @@ static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&
                   offsetof(SsLightDesc, world_directions) == kLightBytesV3 &&
-                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 18 * 4 &&
+                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 19 * 4 &&
                   offsetof(SsSettings, target_error) == kSettingsBytesV1 &&
                   offsetof(SsSettings, samples) == kSettingsBytesV4,
               "scene file records mirror the API structs; bump kFormatVersion when they change");

@@ -3,9 +3,13 @@
 // shadow rays to the light's disk, and against the penumbra's geometry.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "subsplat/subsplat.h"
@@ -105,6 +109,73 @@ TEST_F(SoftShadow, PointLightPenumbraMatchesReference) {
   std::printf("point penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f\n", full, reference);
   EXPECT_NEAR(full / reference, 1.0, 0.15);
   EXPECT_GT(reference, 0.1);
+}
+
+}  // namespace
+}  // namespace subsplat
+
+namespace subsplat {
+namespace {
+
+// Hard shadows on a map of their own (docs/SOFT_SHADOWS.md, "Shadow maps"): with an irradiance
+// buffer of 64 texels in a 256-pixel image, the automatic shadow map's texels are no larger than
+// the image's pixels (the sun's view spans the scene's bounding sphere, 11.4 units: 0.178 per
+// texel at 64, against 4 / 256 = 0.0156 per pixel, so 64 x 11.4 = 727, up to 1024), and the
+// shadow's staircase against REFERENCE's shadow rays shrinks with it.
+TEST(ShadowMap, OwnResolutionFollowsTheImageNotTheIrradianceBuffer) {
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  SsMaterialDesc grey = testing::greyMaterial(0.5f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
+  testing::Quad quad;
+  SsMeshDesc floor = quad.desc(4.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
+  // A box turned 30 degrees: its shadow's edges cross the map's texels at a slant (a staircase).
+  testing::Box box{glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(0.5f, 0.5f, 1.0f)};
+  SsMeshDesc boxMesh = box.desc(0);
+  glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(30.0f), glm::vec3(0, 0, 1));
+  std::memcpy(boxMesh.object_to_world, glm::value_ptr(turn), sizeof boxMesh.object_to_world);
+  ASSERT_EQ(ssSetMesh(context, 1, &boxMesh), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(2.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 45.0f);
+  ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  const int size = 256;
+  auto render = [&](int method, int shadowResolution, int* used) {
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = 64;
+    settings.shadow_resolution = shadowResolution;
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    std::vector<float> rgba(size_t(size) * size * 4);
+    EXPECT_EQ(ssRender(context, size, size, rgba.data()), SS_OK) << ssGetLastError();
+    SsStats stats{};
+    EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
+    if (used) *used = stats.shadow_resolution;
+    return rgba;
+  };
+  std::vector<float> reference = render(SS_METHOD_REFERENCE, 0, nullptr);
+  int coarseUsed = 0, automaticUsed = 0;
+  std::vector<float> coarse = render(SS_METHOD_FULL, 64, &coarseUsed), automatic = render(SS_METHOD_FULL, 0, &automaticUsed);
+  EXPECT_EQ(coarseUsed, 64);
+  EXPECT_EQ(automaticUsed, 1024);
+  // Pixels of the floor lit in one and shadowed in the other (green channel, half the lit value).
+  auto wrong = [&](const std::vector<float>& image) {
+    int count = 0;
+    for (size_t i = 0; i < image.size() / 4; ++i)
+      if ((image[4 * i + 1] > 0.2f) != (reference[4 * i + 1] > 0.2f)) ++count;
+    return count;
+  };
+  int coarseWrong = wrong(coarse), automaticWrong = wrong(automatic);
+  std::printf("pixels lit in one and shadowed in the other against REFERENCE: 64-texel map %d, %d-texel map %d\n",
+              coarseWrong, automaticUsed, automaticWrong);
+  if (!(automaticWrong * 5 < coarseWrong) || std::getenv("SHADOW_IMAGES")) {
+    testing::writeComparison("shadow_map_automatic", automatic, reference, size, size);
+    testing::writeComparison("shadow_map_64", coarse, reference, size, size);
+  }
+  EXPECT_LT(automaticWrong * 5, coarseWrong);
+  ASSERT_EQ(ssReleaseContext(context), SS_OK);
 }
 
 }  // namespace

@@ -113,7 +113,8 @@ def render_image(engine, depsgraph, preview):
     if settings.method == "REFERENCE":
         detail = f"{stats['splat_count']} surface samples"
     else:
-        detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['splat_count']} splats, "
+        detail = (f"{stats['irradiance_resolution']}² irradiance, {stats['shadow_resolution']}² shadows, "
+                  f"{stats['splat_count']} splats, "
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
     samples = f"{stats['samples']} sample" + ("s" if stats["samples"] != 1 else "")
     engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {samples}, {detail}")

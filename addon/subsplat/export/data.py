@@ -100,3 +100,4 @@ class Settings:
     samples: int = 1
     filter_width: float = 0.0
     first_sample: int = 0
+    shadow_resolution: int = 0

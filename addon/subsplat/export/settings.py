@@ -24,7 +24,12 @@ def render_settings(scene, debug_passes=False, method=None, viewport_sample=None
         result.samples = settings.samples
     else:
         result.samples, result.first_sample = 1, viewport_sample
-    result.filter_width = filter_width(scene, warnings if warnings is not None else [])
+    warnings = warnings if warnings is not None else []
+    result.filter_width = filter_width(scene, warnings)
+    result.shadow_resolution = settings.shadow_resolution
+    if 0 < settings.shadow_resolution < 16:  # below the library's range: the smallest it takes
+        warnings.append(f"Shadow Resolution {settings.shadow_resolution} is below 16 texels; it is rendered at 16")
+        result.shadow_resolution = 16
     if settings.quality == "AUTO":  # 0: the library's automatic resolution and levels, default thresholds
         result.irradiance_resolution = 0
         result.target_error = settings.target_error

@@ -187,6 +187,10 @@ typedef struct SsSettings {
   int32_t samples;
   float filter_width;
   int32_t first_sample;
+  /* Texels per side of each light view's shadow map (hard shadows), in [16, 8192], or 0:
+   * automatic, the render's larger side rounded up to a power of two, at most 2048, and never
+   * coarser than the irradiance buffer, whose own map it then is (docs/SOFT_SHADOWS.md). */
+  int32_t shadow_resolution;
 } SsSettings;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
@@ -233,6 +237,8 @@ typedef struct SsStats {
   float texels_per_range;
   /* Jittered samples rendered (anti-aliasing); light_views counts every sample's. */
   int32_t samples;
+  /* Shadow map resolution used (the automatic choice, or the one set). */
+  int32_t shadow_resolution;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

@@ -40,7 +40,8 @@
   X(UNIT_FINE_NORMAL_MATERIAL, 21, GL_TEXTURE_2D)           \
   X(UNIT_TRANSPORT_TABLES, 22, GL_TEXTURE_2D_ARRAY)         \
   X(UNIT_IRRADIANCE_EXIT_DEPTH, 23, GL_TEXTURE_2D)             \
-  X(UNIT_FIRST_SAMPLE_POSITION_OBJECT, 24, GL_TEXTURE_2D)
+  X(UNIT_FIRST_SAMPLE_POSITION_OBJECT, 24, GL_TEXTURE_2D)     \
+  X(UNIT_SHADOW_DEPTH, 25, GL_TEXTURE_2D)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \

@@ -10,11 +10,15 @@
 
 namespace subsplat {
 
-// What the direct-lighting pass reads of a light view's irradiance buffer (level 0): the light
-// depth, and for TABULATED materials the position and normal.
+// What the direct-lighting pass reads of a light view: the irradiance buffer's light depth (soft
+// shadows), position and normal (TABULATED materials' light through thin parts), level 0, and the
+// shadow map of the hard shadows (pipeline/shadow_map.h; the irradiance buffer's light depth when
+// it has the same resolution).
 struct ShadowInputs {
   GLuint lightDepth = 0, positionMaterial = 0, normalObject = 0;
   int resolution = 0;
+  GLuint shadowDepth = 0;
+  int shadowResolution = 0;
 };
 
 class IrradianceBuffer {
@@ -40,7 +44,7 @@ class IrradianceBuffer {
   GLuint normalObject() const { return normalObject_.id(); }
   GLuint lightDepth() const { return lightDepth_.id(); }
   ShadowInputs shadowInputs() const {
-    return {lightDepth_.id(), positionMaterial_.id(), normalObject_.id(), resolution_};
+    return {lightDepth_.id(), positionMaterial_.id(), normalObject_.id(), resolution_, lightDepth_.id(), resolution_};
   }
   // r: light depth of the nearest surface facing away from the light, g: its object index, ba: its
   // normal (octahedral)

@@ -8,13 +8,15 @@
 
 namespace subsplat {
 
-bool ShadowCopies::keep(size_t index, const IrradianceBuffer& irradiance, bool withSurface) {
-  int r = irradiance.resolution();
-  size_t bytes = size_t(r) * size_t(r) * (withSurface ? 36 : 4);
+bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurface) {
+  int r = source.resolution;
+  bool ownShadow = source.shadowDepth != source.lightDepth;
+  int s = ownShadow ? source.shadowResolution : 0;
+  size_t bytes = size_t(r) * size_t(r) * (withSurface ? 36 : 4) + size_t(s) * size_t(s) * 4;
   if ((index + 1) * bytes > kBudgetBytes) return false;
   if (copies_.size() <= index) copies_.resize(index + 1);
   Copy& copy = copies_[index];
-  if (copy.resolution != r || copy.withSurface != withSurface) {
+  if (copy.resolution != r || copy.withSurface != withSurface || copy.shadowResolution != s) {
     copy = Copy{};
     try {
       gl::Purpose purpose("a copy of a shadow map for the anti-aliasing samples");
@@ -23,24 +25,28 @@ bool ShadowCopies::keep(size_t index, const IrradianceBuffer& irradiance, bool w
         copy.position = gl::makeTexture2D(GL_RGBA32F, r, r);
         copy.normal = gl::makeTexture2D(GL_RGBA32F, r, r);
       }
+      if (ownShadow) copy.shadow = gl::makeTexture2D(GL_R32F, s, s);
     } catch (const Error& e) {
       if (e.status() != SS_LIMIT_EXCEEDED) throw;
       copy = Copy{};  // past the memory budget: this view's shadow map is drawn again per sample
       return false;
     }
     copy.resolution = r;
+    copy.shadowResolution = s;
     copy.withSurface = withSurface;
   }
-  ShadowInputs source = irradiance.shadowInputs();
-  glCopyImageSubData(source.lightDepth, GL_TEXTURE_2D, 0, 0, 0, 0, copy.depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, r, r, 1);
+  auto duplicate = [](GLuint from, GLuint to, int size) {
+    glCopyImageSubData(from, GL_TEXTURE_2D, 0, 0, 0, 0, to, GL_TEXTURE_2D, 0, 0, 0, 0, size, size, 1);
+  };
+  duplicate(source.lightDepth, copy.depth.id(), r);
   if (withSurface) {
-    glCopyImageSubData(source.positionMaterial, GL_TEXTURE_2D, 0, 0, 0, 0, copy.position.id(), GL_TEXTURE_2D, 0, 0, 0,
-                       0, r, r, 1);
-    glCopyImageSubData(source.normalObject, GL_TEXTURE_2D, 0, 0, 0, 0, copy.normal.id(), GL_TEXTURE_2D, 0, 0, 0, 0, r,
-                       r, 1);
+    duplicate(source.positionMaterial, copy.position.id(), r);
+    duplicate(source.normalObject, copy.normal.id(), r);
   }
+  if (ownShadow) duplicate(source.shadowDepth, copy.shadow.id(), s);
   if (kept_.size() <= index) kept_.resize(index + 1);
-  kept_[index] = {copy.depth.id(), copy.position.id(), copy.normal.id(), r};
+  kept_[index] = {copy.depth.id(), copy.position.id(), copy.normal.id(), r,
+                  ownShadow ? copy.shadow.id() : copy.depth.id(), ownShadow ? s : r};
   return true;
 }
 

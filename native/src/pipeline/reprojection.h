@@ -18,7 +18,8 @@ class ShadowCopies {
   static constexpr size_t kBudgetBytes = size_t(256) << 20;
   // Keeps view `index`'s inputs from `irradiance` if the budget allows (withSurface: the position
   // and normal too, for TABULATED materials); false when it does not.
-  bool keep(size_t index, const IrradianceBuffer& irradiance, bool withSurface);
+  // shadow: the view's shadow map inputs (ShadowInputs' shadowDepth, shadowResolution).
+  bool keep(size_t index, const ShadowInputs& shadow, bool withSurface);
   // The kept inputs of view `index`, or nullptr.
   const ShadowInputs* find(size_t index) const;
   // Forgets every view (their textures stay for the next frame's views of the same size).
@@ -26,9 +27,9 @@ class ShadowCopies {
 
  private:
   struct Copy {
-    int resolution = 0;
+    int resolution = 0, shadowResolution = 0;  // shadowResolution 0: the irradiance buffer's map
     bool withSurface = false;
-    gl::Texture depth, position, normal;
+    gl::Texture depth, position, normal, shadow;
   };
   std::vector<Copy> copies_;
   std::vector<ShadowInputs> kept_;  // per view index, resolution 0 where not kept

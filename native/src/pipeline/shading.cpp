@@ -47,6 +47,8 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, shadow.lightDepth);
+  bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, shadow.shadowDepth);
+  glUniform1i(uniform(p, "shadowResolution"), shadow.shadowResolution);
   glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
   if (scene.tabulated()) {
     bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, shadow.positionMaterial);
