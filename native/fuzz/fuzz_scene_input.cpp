@@ -121,6 +121,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   settings.samples = in.ConsumeIntegralInRange<int32_t>(-1, 4);  // a few: each is a frame's passes again
   floats(in, &settings.filter_width, 1);
   settings.first_sample = in.ConsumeIntegralInRange<int32_t>(-1, 1000001);
+  settings.shadow_resolution = in.ConsumeIntegralInRange<int32_t>(-1, 64);
   ssSetSettings(context, &settings);
   const int32_t width = in.ConsumeIntegralInRange<int32_t>(-1, 12);
   const int32_t height = in.ConsumeIntegralInRange<int32_t>(-1, 12);
