@@ -405,9 +405,11 @@ TEST_F(Multires, StatsSplitSplattingIntoLevelsAndAccumulation) {
   ASSERT_EQ(testing::setSlab(context, quad, marble), SS_OK);
   SsLightDesc sun = testing::sunLight(3.0f, 0.0f);
   ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+  renderWith(SS_METHOD_FULL, 128);  // the context's first frame: its timers may be left out (StageProfiler)
   SsStats stats = renderWith(SS_METHOD_FULL, 128);
   ASSERT_EQ(stats.splat_levels, 3);
-  if (!stats.statistics_available || !stats.timers_available) GTEST_SKIP() << "no pipeline statistics";
+  if (!stats.statistics_available) GTEST_SKIP() << "this driver has no pipeline statistics queries";
+  ASSERT_TRUE(stats.timers_available) << "timer queries are core GL 3.3";
   uint64_t parts = stats.accumulation_fragments, coarse = 0;
   double partMs = stats.accumulation_ms;
   for (int k = 0; k < stats.splat_levels; ++k) {

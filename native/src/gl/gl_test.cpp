@@ -15,7 +15,8 @@ namespace subsplat {
 namespace {
 
 // The profiler's timer and pipeline-statistics queries are made in the first frame and reused
-// by every later one: frames of the same scene make no GL query objects.
+// by every later one: frames of the same scene make no GL query objects. Their times fit in the
+// frame's wall time.
 TEST(GlQueries, ProfilerQueriesAreMadeOnceAndReusedByLaterFrames) {
   testing::EglContext gl;
   SsContext context = nullptr;
@@ -32,11 +33,17 @@ TEST(GlQueries, ProfilerQueriesAreMadeOnceAndReusedByLaterFrames) {
   ASSERT_EQ(ssRender(context, 16, 16, rgba.data()), SS_OK) << ssGetLastError();
   SsStats stats{};
   ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
-  ASSERT_TRUE(stats.timers_available) << "no timer queries: nothing to count";
+  // The first frame of a process's first context may report timers_available 0: llvmpipe's
+  // first timer query has returned the time since boot (StageProfiler::collect leaves it out).
   const int64_t madeByFirstFrame = gl::Query::made(), liveAfterFirstFrame = gl::Query::live();
   EXPECT_GT(madeByFirstFrame, madeBefore);
   for (int frame = 2; frame <= 5; ++frame) {
     ASSERT_EQ(ssRender(context, 16, 16, rgba.data()), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
+    double stages = 0.0;
+    for (double ms : stats.stage_ms) stages += ms;
+    EXPECT_TRUE(stats.timers_available) << "frame " << frame;
+    EXPECT_LE(stages, 1.5 * stats.frame_ms + 1.0) << "GPU stage times within the frame's wall time, frame " << frame;
     EXPECT_EQ(gl::Query::made(), madeByFirstFrame) << "queries made in frame " << frame;
     EXPECT_EQ(gl::Query::live(), liveAfterFirstFrame) << "queries live after frame " << frame;
   }

@@ -18,6 +18,7 @@ static gl::Query newQuery() {
 void StageProfiler::newFrame() {
   end();
   spans_.clear();
+  frameStart_ = std::chrono::steady_clock::now();
 }
 
 void StageProfiler::begin(SsStage stage, int part) {
@@ -44,12 +45,18 @@ void StageProfiler::end() {
 
 void StageProfiler::collect(SsStats& stats) {
   end();
+  std::vector<GLuint64> nanoseconds(spans_.size(), 0);
+  if (timers_)
+    for (size_t i = 0; i < spans_.size(); ++i) glGetQueryObjectui64v(times_[i].id(), GL_QUERY_RESULT, &nanoseconds[i]);
+  double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart_).count();
+  bool timesValid = timers_;
+  for (GLuint64 ns : nanoseconds)
+    if (double(ns) * 1e-6 > 1.5 * wallMs + 1.0) timesValid = false;
   for (size_t i = 0; i < spans_.size(); ++i) {
     const Span& span = spans_[i];
-    GLuint64 nanoseconds = 0, fragments = 0;
-    if (timers_) glGetQueryObjectui64v(times_[i].id(), GL_QUERY_RESULT, &nanoseconds);
+    GLuint64 fragments = 0;
     if (statistics_) glGetQueryObjectui64v(fragments_[i].id(), GL_QUERY_RESULT, &fragments);
-    double ms = double(nanoseconds) * 1e-6;
+    double ms = timesValid ? double(nanoseconds[i]) * 1e-6 : 0.0;
     stats.stage_ms[span.stage] += ms;
     stats.fragment_invocations[span.stage] += fragments;
     if (span.part >= 0 && span.part < kAccumulation) {
@@ -60,7 +67,7 @@ void StageProfiler::collect(SsStats& stats) {
       stats.accumulation_fragments += fragments;
     }
   }
-  stats.timers_available = timers_;
+  stats.timers_available = timesValid;
   stats.statistics_available = statistics_;
   spans_.clear();
 }

@@ -5,6 +5,7 @@
 // query objects are made once and reused by the spans of every later frame.
 #pragma once
 
+#include <chrono>
 #include <vector>
 
 #include "gl/gl.h"
@@ -20,7 +21,10 @@ class StageProfiler {
   void newFrame();  // forgets the spans of a frame that ended without collect() (an error)
   void begin(SsStage stage, int part = kWhole);  // one span at a time
   void end();
-  void collect(SsStats& stats);  // waits for the results, adds them to stats
+  // Waits for the results and adds them to stats. Timer results longer than the frame's wall time
+  // since newFrame() are not times (llvmpipe's first query in a context has reported the time since
+  // boot): the frame's times are then left out and timers_available is 0.
+  void collect(SsStats& stats);
 
  private:
   struct Span {
@@ -30,6 +34,7 @@ class StageProfiler {
   std::vector<Span> spans_;  // span i uses times_[i] and fragments_[i]
   std::vector<gl::Query> times_, fragments_;  // the pool, as many as the longest frame had spans
   bool timers_ = false, statistics_ = false, open_ = false;
+  std::chrono::steady_clock::time_point frameStart_;
 };
 
 }  // namespace subsplat
