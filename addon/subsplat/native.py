@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 15  # SS_API_VERSION of subsplat.h
+API_VERSION = 16  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -22,6 +22,8 @@ AREA_SHAPES = {"SQUARE": 0, "RECTANGLE": 1, "DISK": 2, "ELLIPSE": 3}
 SS_MATERIAL_OPAQUE, SS_MATERIAL_DIPOLE, SS_MATERIAL_SUBEDIT, SS_MATERIAL_HOLDOUT = 0, 1, 2, 3
 SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED = 0, 1
 SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
+SS_TEXTURE_REPEAT, SS_TEXTURE_EXTEND, SS_TEXTURE_CLIP = 0, 1, 2
+SS_TEXTURE_LINEAR, SS_TEXTURE_CLOSEST = 0, 1
 
 # The plain data's names (export.data) for them.
 METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE": SS_METHOD_ADAPTIVE,
@@ -31,6 +33,8 @@ LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_S
 MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "SUBEDIT": SS_MATERIAL_SUBEDIT,
                   "HOLDOUT": SS_MATERIAL_HOLDOUT}
 PROFILE_MODELS = {"DIPOLE": SS_PROFILE_DIPOLE, "TABULATED": SS_PROFILE_TABULATED}
+TEXTURE_EXTENSIONS = {"REPEAT": SS_TEXTURE_REPEAT, "EXTEND": SS_TEXTURE_EXTEND, "CLIP": SS_TEXTURE_CLIP}
+TEXTURE_INTERPOLATIONS = {"LINEAR": SS_TEXTURE_LINEAR, "CLOSEST": SS_TEXTURE_CLOSEST}
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
            5: "limit exceeded", 6: "internal error", 7: "cancelled"}
@@ -69,16 +73,26 @@ class MeshDesc(ctypes.Structure):
 
 
 class ResourceCounts(ctypes.Structure):
-    _fields_ = [(name, ctypes.c_int64) for name in ("contexts", "profile_sets", "textures", "buffers",
+    _fields_ = [(name, ctypes.c_int64) for name in ("contexts", "profile_sets", "images", "textures", "buffers",
                                                      "framebuffers", "vertex_arrays", "programs", "queries",
                                                      "orphaned_gl_objects")]
+
+
+class TextureDesc(ctypes.Structure):
+    _fields_ = [("image", ctypes.c_void_p), ("transform", ctypes.c_float * 6), ("extension", ctypes.c_int32),
+                ("interpolation", ctypes.c_int32)]
 
 
 class MaterialDesc(ctypes.Structure):
     _fields_ = [("kind", ctypes.c_int32), ("base_color", Float3), ("sigma_a", Float3),
                 ("sigma_s_prime", Float3), ("eta", ctypes.c_float), ("mm_per_unit", ctypes.c_float),
                 ("roughness", ctypes.c_float), ("specular", ctypes.c_float), ("profile_model", ctypes.c_int32),
-                ("profiles", ctypes.c_void_p)]
+                ("profiles", ctypes.c_void_p), ("color_texture", TextureDesc), ("normal_texture", TextureDesc),
+                ("normal_strength", ctypes.c_float)]
+
+
+class ImageDesc(ctypes.Structure):
+    _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32), ("rgb", ctypes.POINTER(ctypes.c_float))]
 
 
 class ProfileSetDesc(ctypes.Structure):
@@ -136,7 +150,7 @@ class ProfileInfo(ctypes.Structure):
 
 # Each Structure and its struct in subsplat.h, checked at load (check_layout).
 LAYOUTS = {MeshDesc: "SsMeshDesc", ResourceCounts: "SsResourceCounts", MaterialDesc: "SsMaterialDesc",
-           ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
+           TextureDesc: "SsTextureDesc", ImageDesc: "SsImageDesc", ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
            CameraDesc: "SsCameraDesc", Settings: "SsSettings", Stats: "SsStats", ProfileInfo: "SsProfileInfo"}
 
 _libs = None
@@ -252,6 +266,8 @@ def _declare(lib):
         "ssSaveProfileSet": [handle, ctypes.c_char_p],
         "ssGetProfileSetInfo": [handle, ctypes.POINTER(ProfileSetInfo)],
         "ssReleaseProfileSet": [handle],
+        "ssNewImage": [ctypes.POINTER(ImageDesc), ctypes.POINTER(handle)],
+        "ssReleaseImage": [handle],
         "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
         "ssSetMemoryBudget": [ctypes.c_uint64],
         "ssGetMemoryUsage": [ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_uint64)],
@@ -357,6 +373,21 @@ def _material_desc(material):
     desc.profile_model = PROFILE_MODELS[material.profile_model]
     if material.profiles is not None:
         desc.profiles = material.profiles.handle
+    if material.color_texture is not None:
+        desc.color_texture = _texture_desc(material.color_texture)
+    if material.normal_texture is not None:
+        desc.normal_texture = _texture_desc(material.normal_texture)
+        desc.normal_strength = material.normal_strength
+    return desc
+
+
+def _texture_desc(texture):
+    """texture: export.data.Texture, whose image is an Image (below)."""
+    desc = TextureDesc()
+    desc.image = texture.image.handle
+    desc.transform = (ctypes.c_float * 6)(*texture.transform)
+    desc.extension = TEXTURE_EXTENSIONS[texture.extension]
+    desc.interpolation = TEXTURE_INTERPOLATIONS[texture.interpolation]
     return desc
 
 
@@ -471,6 +502,39 @@ class ProfileSet:
     def release(self):
         if self._handle:
             library().ssReleaseProfileSet(self._handle)
+            self._handle = ctypes.c_void_p()
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # interpreter shutdown: the library may be gone
+            pass
+
+
+class Image:
+    """An image materials read through their meshes' UVs (docs/TEXTURES.md); no GL needed.
+
+    Made from scene-linear RGB values, a (height, width, 3) array, row 0 at v = 0 (Blender's bottom
+    row); the library keeps its own copy. Materials keep their own reference, so an image may be
+    dropped after Context.set_material.
+    """
+
+    def __init__(self, rgb):
+        rgb = np.ascontiguousarray(rgb, dtype=np.float32)
+        if rgb.ndim != 3 or rgb.shape[2] != 3:
+            raise SubsplatError(f"an image must be (height, width, 3), got {rgb.shape}")
+        self._handle = ctypes.c_void_p()
+        self.width, self.height = rgb.shape[1], rgb.shape[0]
+        desc = ImageDesc(self.width, self.height, _floats(rgb))
+        _check(library().ssNewImage(ctypes.byref(desc), ctypes.byref(self._handle)))
+
+    @property
+    def handle(self):
+        return self._handle.value
+
+    def release(self):
+        if self._handle:
+            library().ssReleaseImage(self._handle)
             self._handle = ctypes.c_void_p()
 
     def __del__(self):

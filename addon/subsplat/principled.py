@@ -91,19 +91,52 @@ def albedo_and_path(sigma_a, sigma_s_prime, eta, profile_model="DIPOLE"):
             1.0 / np.sqrt(3 * sigma_a * sigma_t))
 
 
+def srgb_to_linear(values):
+    """The sRGB transfer function's inverse (IEC 61966-2-1), elementwise: stored values to linear."""
+    return np.where(values <= 0.04045, values / 12.92, ((values + 0.055) / 1.055) ** 2.4)
+
+
+# A byte image's values are k / 255 (image.pixels gives k * (1 / 255) in single precision): its
+# conversion is a table of 256, indexed by k, rather than a power per value.
+_BYTE_VALUES = np.arange(256, dtype=np.float32) * np.float32(1.0 / 255.0)
+_LINEAR_BYTES = srgb_to_linear(_BYTE_VALUES).astype(np.float32)
+
+
+def image_pixels(image):
+    """An image's stored values, (height, width, channels) float32, row 0 at v = 0 (image.pixels,
+    read in one call); PrincipledError when it has none."""
+    width, height = image.size
+    channels = image.channels
+    if width == 0 or height == 0 or channels == 0:
+        raise PrincipledError(f"image '{image.name}' has no pixels (is the file missing?)")
+    pixels = np.empty(width * height * channels, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(height, width, channels)
+
+
+def converts_from_srgb(image):
+    """Whether an image's stored values are sRGB-encoded colours (a byte image in sRGB): Blender has
+    already made float images scene-linear, and data (Non-Color) is read as stored."""
+    return not image.is_float and image.colorspace_settings.name == "sRGB"
+
+
+def image_rgb(image, linear_colour, max_side=None, pixels=None):
+    """An image's RGB as a (height, width, 3) float32 array, row 0 at v = 0; with max_side, at most
+    that many texels per side (larger images are sampled down); with linear_colour, an sRGB byte
+    image converted to linear (converts_from_srgb). pixels: image_pixels(image), when read already."""
+    pixels = image_pixels(image) if pixels is None else pixels
+    rgb = pixels[..., :3] if pixels.shape[2] >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
+    if max_side:
+        step = max(1, -(-max(rgb.shape[:2]) // max_side))
+        rgb = rgb[::step, ::step]
+    if linear_colour and converts_from_srgb(image):
+        return _LINEAR_BYTES[(rgb * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)]
+    return np.ascontiguousarray(rgb, dtype=np.float32)
+
+
 def _image_values(image, linear_colour):
     """An image's RGB as a (height, width, 3) float array, row 0 at v = 0, at most MAX_SIDE per side."""
-    width, height = image.size
-    if width == 0 or height == 0:
-        raise PrincipledError(f"image '{image.name}' has no pixels (is the file missing?)")
-    pixels = np.empty(width * height * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(height, width, 4)[..., :3]
-    step = max(1, -(-max(width, height) // MAX_SIDE))
-    rgb = rgb[::step, ::step]
-    if linear_colour and not image.is_float and image.colorspace_settings.name == "sRGB":
-        rgb = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-    return np.ascontiguousarray(rgb, dtype=np.float32)
+    return image_rgb(image, linear_colour, MAX_SIDE)
 
 
 def _socket_map(material, socket, linear_colour, warnings):

@@ -15,6 +15,7 @@ namespace {
 
 subsplat::testing::EglContext* gl = nullptr;
 SsProfileSet profiles = nullptr;
+SsImage image = nullptr;
 
 void floats(FuzzedDataProvider& in, float* out, size_t count) {
   for (size_t i = 0; i < count; ++i) {
@@ -29,6 +30,9 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   gl = new subsplat::testing::EglContext();
   const float sigmaA[3] = {0.03f, 0.17f, 0.48f}, sigmaS[3] = {0.74f, 0.88f, 1.01f};
   if (ssNewProfileSetFromDipoles(1, 1, sigmaA, sigmaS, 1.3f, 0.0f, SS_PROFILE_DIPOLE, &profiles) != SS_OK) __builtin_trap();
+  const float rgb[12] = {0.9f, 0.1f, 0.1f, 0.1f, 0.9f, 0.1f, 0.5f, 0.5f, 1.0f, 1.0f, 1.0f, 1.0f};
+  const SsImageDesc desc{2, 2, rgb};
+  if (ssNewImage(&desc, &image) != SS_OK) __builtin_trap();
   return 0;
 }
 
@@ -54,7 +58,22 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     floats(in, &material.roughness, 1);
     floats(in, &material.specular, 1);
     material.profiles = in.ConsumeBool() ? profiles : nullptr;
+    for (SsTextureDesc* texture : {&material.color_texture, &material.normal_texture}) {
+      texture->image = in.ConsumeBool() ? image : nullptr;
+      if (in.ConsumeBool()) floats(in, texture->transform, 6);
+      texture->extension = in.ConsumeIntegralInRange<int32_t>(-1, 3);
+      texture->interpolation = in.ConsumeIntegralInRange<int32_t>(-1, 2);
+    }
+    if (in.ConsumeBool()) floats(in, &material.normal_strength, 1);
     ssSetMaterial(context, in.ConsumeIntegralInRange<uint32_t>(0, 4), &material);
+  }
+  if (in.ConsumeBool()) {  // an image of arbitrary size and values, made and released
+    const uint32_t width = in.ConsumeIntegralInRange<uint32_t>(0, 5), height = in.ConsumeIntegralInRange<uint32_t>(0, 5);
+    std::vector<float> rgb(3 * size_t(width) * height);
+    floats(in, rgb.data(), rgb.size());
+    const SsImageDesc desc{width, height, in.ConsumeBool() ? rgb.data() : nullptr};
+    SsImage made = nullptr;
+    if (ssNewImage(&desc, &made) == SS_OK && ssReleaseImage(made) != SS_OK) __builtin_trap();
   }
   for (int k = in.ConsumeIntegralInRange(0, 2); k > 0; --k) {
     const uint32_t vertices = in.ConsumeIntegralInRange<uint32_t>(0, 48);

@@ -11,6 +11,12 @@ struct Material {
   vec4 medium;         // TABULATED model: rgb single-scattering albedo, w its transport layer (-1: none)
   vec4 extinction;     // TABULATED model: rgb sigma_t per scene unit
   vec4 world;          // translucent: rgb the response to the unshadowed world (world_light.h)
+  // Textures (material/texture.h): offset into textureTexels, width, height (0: none), extension |
+  // interpolation << 2; the UV transform's two rows (xyz); normalU.w: the normal map's strength.
+  uvec4 colorTexture;
+  vec4 colorU, colorV;
+  uvec4 normalTexture;
+  vec4 normalU, normalV;
 };
 layout(std430, binding = STORAGE_MATERIALS) readonly buffer Materials { Material materials[]; };
 
@@ -123,6 +129,66 @@ int profileEntry(int m, vec2 uv, bool hasUv) {
   ivec2 size = ivec2(map.yz);
   ivec2 t = clamp(ivec2(floor(fract(uv) * vec2(size))), ivec2(0), size - 1);
   return m + int(texelFetch(profileMaps, int(map.x) + t.y * size.x + t.x).r);
+}
+
+// Textures (material/texture.h: Texture::sample, the same look-up): every image's texels in a row.
+layout(binding = UNIT_TEXTURE_TEXELS) uniform samplerBuffer textureTexels;
+vec3 textureTexel(uvec4 t, int x, int y) {
+  int w = int(t.y), h = int(t.z), extension = int(t.w & 3u);
+  if (extension == 0) {  // REPEAT: x in [-1, w] here
+    x = x < 0 ? x + w : x >= w ? x - w : x;
+    y = y < 0 ? y + h : y >= h ? y - h : y;
+  } else if (extension == 1) {
+    x = clamp(x, 0, w - 1), y = clamp(y, 0, h - 1);
+  } else if (x < 0 || x >= w || y < 0 || y >= h) {
+    return vec3(0.0);
+  }
+  return texelFetch(textureTexels, int(t.x) + y * w + x).rgb;
+}
+vec3 sampleTexture(uvec4 t, vec4 rowU, vec4 rowV, vec2 uv) {
+  if (t.y == 0u) return vec3(1.0);
+  vec2 m = vec2(dot(rowU.xyz, vec3(uv, 1.0)), dot(rowV.xyz, vec3(uv, 1.0)));
+  int extension = int(t.w & 3u);
+  if (extension == 2 && (any(lessThan(m, vec2(0.0))) || any(greaterThan(m, vec2(1.0))))) return vec3(0.0);
+  if (extension == 0) m -= floor(m);
+  m = clamp(m, vec2(-1.0), vec2(2.0));
+  vec2 size = vec2(t.yz);
+  if ((t.w & 4u) != 0u) return textureTexel(t, int(floor(m.x * size.x)), int(floor(m.y * size.y)));
+  vec2 x = m * size - 0.5;
+  ivec2 i = ivec2(floor(x));
+  vec2 f = x - vec2(i);
+  return mix(mix(textureTexel(t, i.x, i.y), textureTexel(t, i.x + 1, i.y), f.x),
+             mix(textureTexel(t, i.x, i.y + 1), textureTexel(t, i.x + 1, i.y + 1), f.x), f.y);
+}
+// The colour texture of material m at uv (1 without one): opaque albedo, translucent tint.
+vec3 materialColor(int m, vec2 uv) {
+  if (m < 0) return vec3(1.0);
+  return sampleTexture(materials[m].colorTexture, materials[m].colorU, materials[m].colorV, uv);
+}
+// The shading normal of material m (material/texture.h: perturbedNormal) from the surface's
+// position and UV derivatives across the pixel (the triangle's tangent frame).
+vec3 mappedNormal(int m, vec3 n, vec2 uv, vec3 dpdx, vec3 dpdy, vec2 duvdx, vec2 duvdy) {
+  if (m < 0 || materials[m].normalTexture.y == 0u) return n;
+  float det = duvdx.x * duvdy.y - duvdy.x * duvdx.y;
+  if (det == 0.0) return n;
+  vec3 tangent = (dpdx * duvdy.y - dpdy * duvdx.y) / det;
+  vec3 bitangent = (dpdy * duvdx.x - dpdx * duvdy.x) / det;
+  vec3 t = tangent - n * dot(n, tangent);
+  if (!(dot(t, t) > 1e-20)) return n;
+  t = normalize(t);
+  vec3 b = cross(n, t);
+  if (dot(b, bitangent) < 0.0) b = -b;
+  vec3 c = sampleTexture(materials[m].normalTexture, materials[m].normalU, materials[m].normalV, uv) * 2.0 - 1.0;
+  vec3 p = c.x * t + c.y * b + c.z * n;
+  if (!(dot(p, p) > 1e-20)) return n;
+  p = normalize(p);
+  float strength = materials[m].normalU.w;
+  if (strength != 1.0) {
+    p = n + (p - n) * max(strength, 0.0);
+    if (!(dot(p, p) > 1e-20)) return n;
+    p = normalize(p);
+  }
+  return p;
 }
 
 // Unpolarised Fresnel transmittance into a dielectric of relative index eta.

@@ -4,6 +4,8 @@
 // not reach itself (material/transport_model.h: the slab's T(tau, mu0, mu)).
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_SPLATTING_ALBEDO) uniform sampler2D splattingAlbedo;
+layout(binding = UNIT_SPLATTING_SHADING_NORMAL) uniform sampler2D splattingShadingNormal;
 layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
 // The hard shadows' map at its own resolution (pipeline/shadow_map.h; irradianceLightDepth when the
 // same).
@@ -98,6 +100,9 @@ void main() {
   vec3 p = po.xyz, n = normalize(nm.xyz);
   int m = int(nm.w);
   vec3 L = towardsLight(p);
+  // The normal map's normal shades; the geometric one places the shadow test and the light through.
+  vec3 ns = normalize(texelFetch(splattingShadingNormal, pixel, 0).xyz);
+  vec3 tint = texelFetch(splattingAlbedo, pixel, 0).rgb;
   float nl = dot(n, L);
   vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - p);
   bool tabulated = transmission != 0 && isTabulated(m);
@@ -134,24 +139,25 @@ void main() {
     vec2 q = c.xy / c.w;
     if (c.w > 0.0 && all(lessThan(abs(q), vec2(1.0))))
       through = transmitted(p, n, m, po.w, V, clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0),
-                                                        ivec2(resolution - 1)));
+                                                        ivec2(resolution - 1))) * tint;
   }
-  if (nl <= 0.0) {
+  float nsl = dot(ns, L);
+  if (nl <= 0.0 || nsl <= 0.0) {
     radiance = vec4(through, 0.0);
     return;
   }
 
-  vec3 E = (lightAreaCorners > 0 ? surfaceIrradiance(p, n) : irradianceFacingLight(p) * nl) * visibility * lightWeight(n);
-  float nv = max(dot(n, V), 1e-4);
+  vec3 E = (lightAreaCorners > 0 ? surfaceIrradiance(p, ns) : irradianceFacingLight(p) * nsl) * visibility * lightWeight(ns);
+  float nv = max(dot(ns, V), 1e-4);
   vec3 H = normalize(L + V);
   float roughness = clamp(materials[m].optics.y, 0.02, 1.0);
   float alpha2 = pow(roughness, 4.0);
   float f0 = 0.08 * materials[m].optics.z;
   float fresnel = f0 + (1.0 - f0) * pow(1.0 - max(dot(H, V), 0.0), 5.0);
   // The world's specular reflection is final_shading.frag's, not K highlights (world_light.h).
-  float specular = f0 > 0.0 && worldDirectionCount == 0 ? ggx(max(dot(n, H), 0.0), alpha2) * smithG1(nl, alpha2) *
-                                  smithG1(nv, alpha2) * fresnel / (4.0 * nl * nv)
+  float specular = f0 > 0.0 && worldDirectionCount == 0 ? ggx(max(dot(ns, H), 0.0), alpha2) * smithG1(nsl, alpha2) *
+                                  smithG1(nv, alpha2) * fresnel / (4.0 * nsl * nv)
                             : 0.0;
-  vec3 diffuse = isTranslucent(m) ? vec3(0.0) : materials[m].baseColorKind.rgb / PI;
+  vec3 diffuse = isTranslucent(m) ? vec3(0.0) : materials[m].baseColorKind.rgb * tint / PI;
   radiance = vec4((diffuse + vec3(specular)) * E + through, 0.0);
 }

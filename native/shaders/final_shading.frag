@@ -2,6 +2,8 @@
 // light gathered before; the background where no surface was hit; transparent black on holdouts.
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
+layout(binding = UNIT_SPLATTING_ALBEDO) uniform sampler2D splattingAlbedo;
+layout(binding = UNIT_SPLATTING_SHADING_NORMAL) uniform sampler2D splattingShadingNormal;
 layout(binding = UNIT_EXITANCE_BUFFER) uniform sampler2D exitanceBuffer;
 layout(binding = UNIT_DIRECT_RADIANCE) uniform sampler2D directRadiance;
 uniform vec3 cameraPosition;
@@ -36,20 +38,21 @@ void main() {
   if (isHoldout(m)) { color = vec4(0.0); return; }  // a hole in the image, alpha 0
   vec3 L = texelFetch(directRadiance, pixel, 0).rgb;
   vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - po.xyz);
-  vec3 n = normalize(nm.xyz);
-  float mu = dot(n, V);
+  vec3 n = normalize(texelFetch(splattingShadingNormal, pixel, 0).xyz);  // the normal map's, if any
+  vec3 tint = texelFetch(splattingAlbedo, pixel, 0).rgb;
+  float mu = max(dot(n, V), 0.0);
   L += worldMix(reflect(-V, n).z) * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
   vec3 ambient = worldUnshadowed != 0 ? worldMix(n.z) : vec3(0.0);
-  if (!isTranslucent(m)) L += ambient * materials[m].baseColorKind.rgb;
-  if (isTranslucent(m)) {
+  if (!isTranslucent(m)) L += ambient * materials[m].baseColorKind.rgb * tint;
+  if (isTranslucent(m)) {  // the tint: sqrt(T) where the light entered (irradiance_buffer.frag), sqrt(T) here
     float ft = fresnelTransmittance(materials[m].optics.x, mu);
     vec4 b = texelFetch(exitanceBuffer, pixel, 0);
     // TABULATED: the half-space's exit factor for the light's mean incidence cosine here.
     vec3 exitFactorHere = vec3(1.0);
     float sum = b.r + b.g + b.b;
     if (isTabulated(m) && sum > 0.0) exitFactorHere = exitFactor(m, b.a / sum, mu);
-    L += ft / PI * b.rgb * exitFactorHere;
-    vec3 world = ambient * materials[m].world.rgb * ft;
+    L += ft / PI * b.rgb * exitFactorHere * sqrt(tint);
+    vec3 world = ambient * materials[m].world.rgb * ft * tint;  // entered around here: T at both ends
     if (isTabulated(m))  // the half-space under uniform light: L (1 - sqrt(1 - a) H(mu))
       world *= 1.0 - sqrt(max(1.0 - materials[m].medium.rgb, 0.0)) * hFunction(m, mu);
     L += world;

@@ -73,7 +73,9 @@ void main() {
     lightDepth = sqrt(distance2);
   }
   if (isTranslucent(material)) {
-    flux *= fresnelTransmittance(materials[material].optics.x, cosShading) * lightWeight(n);
+    // The colour texture's tint, sqrt(T) as the light enters (final_shading.frag: sqrt(T) as it leaves).
+    flux *= fresnelTransmittance(materials[material].optics.x, cosShading) * lightWeight(n) *
+            sqrt(materialColor(material, surfaceUv));
   } else {
     material = -1;
     flux = vec3(0.0);

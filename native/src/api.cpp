@@ -75,12 +75,17 @@ struct SsProfileSet_ : Counted<SsProfileSet_> {
   std::shared_ptr<const subsplat::ProfileSet> set;
 };
 
+struct SsImage_ : Counted<SsImage_> {
+  std::shared_ptr<const subsplat::TextureImage> image;
+};
+
 namespace {
 
 thread_local std::string lastError;
 
 Registry<SsContext_> liveContexts;
 Registry<SsProfileSet_> liveProfileSets;
+Registry<SsImage_> liveImages;
 
 template <typename F>
 SsStatus guarded(const char* entry, F&& body) {
@@ -155,6 +160,13 @@ std::shared_ptr<const subsplat::ProfileSet> profileSet(SsProfileSet handle, cons
   return handle->set;
 }
 
+std::shared_ptr<const subsplat::TextureImage> textureImage(SsImage handle, const std::string& what) {
+  if (handle == nullptr) return nullptr;
+  if (!liveImages.contains(handle))
+    subsplat::fail(SS_INVALID_HANDLE, what + " is not a live subsplat image (released already, or never made)");
+  return handle->image;
+}
+
 double tolerance(float value) {
   if (value == 0.0f) return subsplat::ProfileSet::kDefaultTolerance;
   return value;  // checked by the profile set
@@ -202,6 +214,18 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsMaterialDesc, specular),
     SS_FIELD(SsMaterialDesc, profile_model),
     SS_FIELD(SsMaterialDesc, profiles),
+    SS_FIELD(SsMaterialDesc, color_texture),
+    SS_FIELD(SsMaterialDesc, normal_texture),
+    SS_FIELD(SsMaterialDesc, normal_strength),
+    SS_STRUCT(SsTextureDesc),
+    SS_FIELD(SsTextureDesc, image),
+    SS_FIELD(SsTextureDesc, transform),
+    SS_FIELD(SsTextureDesc, extension),
+    SS_FIELD(SsTextureDesc, interpolation),
+    SS_STRUCT(SsImageDesc),
+    SS_FIELD(SsImageDesc, width),
+    SS_FIELD(SsImageDesc, height),
+    SS_FIELD(SsImageDesc, rgb),
     SS_STRUCT(SsLightDesc),
     SS_FIELD(SsLightDesc, type),
     SS_FIELD(SsLightDesc, color),
@@ -265,6 +289,7 @@ const LayoutEntry kLayouts[] = {
     SS_STRUCT(SsResourceCounts),
     SS_FIELD(SsResourceCounts, contexts),
     SS_FIELD(SsResourceCounts, profile_sets),
+    SS_FIELD(SsResourceCounts, images),
     SS_FIELD(SsResourceCounts, textures),
     SS_FIELD(SsResourceCounts, buffers),
     SS_FIELD(SsResourceCounts, framebuffers),
@@ -362,6 +387,7 @@ SsStatus ssGetResourceCounts(SsResourceCounts* out) {
     *out = SsResourceCounts{};
     out->contexts = Counted<SsContext_>::live;
     out->profile_sets = Counted<SsProfileSet_>::live;
+    out->images = Counted<SsImage_>::live;
     out->textures = gl::Texture::live();
     out->buffers = gl::Buffer::live();
     out->framebuffers = gl::Framebuffer::live();
@@ -439,12 +465,11 @@ SsStatus ssSetMaterial(SsContext context, uint32_t id, const SsMaterialDesc* mat
   return guarded("ssSetMaterial", [&] {
     const SsMaterialDesc& m = deref(material, "material");
     subsplat::Scene& scene = ownRenderer(context).scene();
-    if (m.kind == SS_MATERIAL_SUBEDIT) {
-      subsplat::validateMaterial(m);
-      scene.setMaterial(id, m, profileSet(m.profiles, "material " + std::to_string(id) + ": profiles"));
-    } else {
-      scene.setMaterial(id, m);
-    }
+    const std::string name = "material " + std::to_string(id);
+    subsplat::validateMaterial(m);
+    scene.setMaterial(id, m, m.kind == SS_MATERIAL_SUBEDIT ? profileSet(m.profiles, name + ": profiles") : nullptr,
+                      textureImage(m.color_texture.image, name + ": colour texture image"),
+                      textureImage(m.normal_texture.image, name + ": normal texture image"));
   });
 }
 
@@ -659,6 +684,27 @@ SsStatus ssReleaseProfileSet(SsProfileSet set) {
     if (!liveProfileSets.remove(set))
       subsplat::fail(SS_INVALID_HANDLE, "set is not a live subsplat profile set (released already, or never made)");
     delete set;
+  });
+}
+
+SsStatus ssNewImage(const SsImageDesc* desc, SsImage* out) {
+  return guarded("ssNewImage", [&] {
+    const SsImageDesc& d = deref(desc, "desc");
+    if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
+    *out = nullptr;
+    auto handle = std::make_unique<SsImage_>();
+    handle->image = std::make_shared<const subsplat::TextureImage>(d);
+    liveImages.add(handle.get());
+    *out = handle.release();
+  });
+}
+
+SsStatus ssReleaseImage(SsImage image) {
+  return guarded("ssReleaseImage", [&] {
+    if (image == nullptr) subsplat::fail(SS_INVALID_HANDLE, "image is NULL");
+    if (!liveImages.remove(image))
+      subsplat::fail(SS_INVALID_HANDLE, "image is not a live subsplat image (released already, or never made)");
+    delete image;
   });
 }
 

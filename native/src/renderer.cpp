@@ -143,6 +143,7 @@ void Renderer::render(int width, int height, float* rgba) {
 
   uploadMaterials();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
+  bindTexture(gl::UNIT_TEXTURE_TEXELS, GL_TEXTURE_BUFFER, materialTables_.textureTexels());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);

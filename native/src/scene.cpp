@@ -37,6 +37,10 @@ void validateMaterial(const SsMaterialDesc& m) {
           "roughness must be in [0, 1], got " + std::to_string(m.roughness));
   require(std::isfinite(m.specular) && m.specular >= 0 && m.specular <= 1,
           "specular must be in [0, 1], got " + std::to_string(m.specular));
+  validateTexture(m.color_texture, "colour texture");
+  validateTexture(m.normal_texture, "normal texture");
+  require(std::isfinite(m.normal_strength) && m.normal_strength >= 0 && m.normal_strength <= 10,
+          "normal strength must be in [0, 10], got " + std::to_string(m.normal_strength));
   if (m.kind == SS_MATERIAL_OPAQUE || m.kind == SS_MATERIAL_HOLDOUT) return;
   require(m.profile_model == SS_PROFILE_DIPOLE || m.profile_model == SS_PROFILE_TABULATED,
           "profile model " + std::to_string(m.profile_model) + " is not DIPOLE (0) or TABULATED (1)");
@@ -64,12 +68,21 @@ DipoleMaterial dipoleMaterial(const SsMaterialDesc& d) {
   return m;
 }
 
-void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles) {
+void Scene::setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles,
+                        std::shared_ptr<const TextureImage> color, std::shared_ptr<const TextureImage> normal) {
   validateMaterial(desc);
   require(desc.kind != SS_MATERIAL_SUBEDIT || profiles, "a SUBEDIT material needs a profile set");
+  require(!desc.color_texture.image || color, "the colour texture's image is missing");
+  require(!desc.normal_texture.image || normal, "the normal texture's image is missing");
   Material m;
   m.desc = desc;
   m.desc.profiles = nullptr;
+  m.desc.color_texture.image = m.desc.normal_texture.image = nullptr;
+  if (m.desc.normal_strength == 0.0f) m.desc.normal_strength = 1.0f;
+  if (desc.kind != SS_MATERIAL_HOLDOUT) {
+    if (color) m.color = Texture::fromDesc(desc.color_texture, std::move(color));
+    if (normal) m.normal = Texture::fromDesc(desc.normal_texture, std::move(normal));
+  }
   auto it = materials_.find(id);
   const Material* old = it != materials_.end() ? &it->second : nullptr;
   if (desc.kind == SS_MATERIAL_DIPOLE) {
@@ -266,6 +279,8 @@ void Scene::resolveMaterials() {
       entry.id = id;
       entry.profiles = material.profiles;
       entry.transport = material.transport;
+      entry.color = material.color;
+      entry.normal = material.normal;
       dense_.push_back(std::move(entry));
     }
     if (dense_[size_t(base)].mapped()) {
@@ -275,8 +290,9 @@ void Scene::resolveMaterials() {
   }
   if (maps.empty()) maps.push_back(0);
   profileMaps_ = std::move(maps);
-  heterogeneous_ = tabulated_ = false;
-  for (const MaterialEntry& e : dense_) heterogeneous_ |= e.mapped(), tabulated_ |= bool(e.transport);
+  heterogeneous_ = tabulated_ = textured_ = false;
+  for (const MaterialEntry& e : dense_)
+    heterogeneous_ |= e.mapped(), tabulated_ |= bool(e.transport), textured_ |= bool(e.color) || bool(e.normal);
   for (auto& [objectId, mesh] : meshes_) {
     std::vector<uint32_t> dense(mesh.materialIds.size());
     mesh.translucent = false;

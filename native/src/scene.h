@@ -14,6 +14,7 @@
 
 #include "material/profile_set.h"
 #include "material/splat_kernel.h"
+#include "material/texture.h"
 #include "material/transport_model.h"
 #include "subsplat/subsplat.h"
 
@@ -45,8 +46,9 @@ struct Mesh {
 
 // A material as the caller set it.
 struct Material {
-  SsMaterialDesc desc{};  // desc.profiles is not kept; see profiles
+  SsMaterialDesc desc{};  // desc's handles (profiles, textures' images) are not kept; see below
   std::shared_ptr<const ProfileSet> profiles;               // SUBEDIT
+  Texture color, normal;                                    // docs/TEXTURES.md
   std::vector<std::shared_ptr<const SplatKernel>> kernels;  // DIPOLE: 1; SUBEDIT: one per palette entry
   std::shared_ptr<const TransportTables> transport;          // DIPOLE with the TABULATED model
 };
@@ -59,6 +61,7 @@ struct MaterialEntry {
   std::shared_ptr<const SplatKernel> kernel;    // translucent only
   std::shared_ptr<const ProfileSet> profiles;   // SUBEDIT: the material's set
   std::shared_ptr<const TransportTables> transport;  // the TABULATED model's angular and thin-part tables
+  Texture color, normal;                        // the material's (every entry of it)
   int base = 0;                                 // the material's first entry
   uint32_t id = 0;                              // the caller's material id
   // The entry of a surface point of this material with texture coordinate uv
@@ -82,8 +85,11 @@ class MeshObserver {
 
 class Scene {
  public:
-  // profiles: the SUBEDIT material's set (desc.profiles is the API's handle to it).
-  void setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles = nullptr);
+  // profiles: the SUBEDIT material's set (desc.profiles is the API's handle to it); color, normal:
+  // the images of desc's textures (needed where desc names one).
+  void setMaterial(uint32_t id, const SsMaterialDesc& desc, std::shared_ptr<const ProfileSet> profiles = nullptr,
+                   std::shared_ptr<const TextureImage> color = nullptr,
+                   std::shared_ptr<const TextureImage> normal = nullptr);
   void setMesh(uint32_t objectId, const SsMeshDesc& desc);
   void removeMesh(uint32_t objectId);
   void clear();
@@ -116,13 +122,15 @@ class Scene {
   bool hasCamera() const { return hasCamera_; }
   Bounds bounds(bool translucentOnly) const;
   uint64_t materialVersion() const { return materialVersion_; }
+  // Whether some material reads a texture (the camera buffers then keep each pixel's albedo).
+  bool textured() const { return textured_; }
 
  private:
   std::map<uint32_t, Material> materials_;
   std::map<uint32_t, Mesh> meshes_;
   std::vector<MaterialEntry> dense_;
   std::vector<uint16_t> profileMaps_;
-  bool heterogeneous_ = false, tabulated_ = false;
+  bool heterogeneous_ = false, tabulated_ = false, textured_ = false;
   std::map<uint32_t, int> denseIndex_;
   std::vector<SsLightDesc> lights_;
   SsCameraDesc camera_{};

@@ -18,11 +18,12 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 5;
+constexpr uint32_t kFormatVersion = 6;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
 // and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
 // light record (no world_directions and area fields: there were no world and area lights); formats
-// 2 to 4 a shorter settings record (no anti-aliasing fields: one sample at the pixel's centre).
+// 2 to 4 a shorter settings record (no anti-aliasing fields: one sample at the pixel's centre);
+// formats 1 to 5 have no textures in the material record.
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
@@ -31,7 +32,8 @@ constexpr uint32_t kMeshHasUvs = 1;
 // The API structs are written as they lie in memory: 4-byte fields only, no
 // padding (asserted), little-endian (the only byte order the library builds for).
 // A material record holds SsMaterialDesc up to profile_model (kMaterialBytes),
-// then for SUBEDIT the profile set: n, r_s, palette and map.
+// then for SUBEDIT the profile set: n, r_s, palette and map; then (format 6) the colour and normal
+// textures (each: present, and if so its transform, modes, size and texels) and the normal strength.
 constexpr size_t kMaterialBytes = 15 * 4;
 constexpr size_t kMaterialBytesV2 = 14 * 4;
 constexpr size_t kLightBytes = 24 * 4, kLightBytesV3 = 13 * 4;
@@ -162,7 +164,33 @@ void readMaterial(Scene& scene, Reader& r, uint32_t version) {
       fail(e.status(), r.what() + ": " + e.what());
     }
   }
-  scene.setMaterial(id, desc, std::move(profiles));
+  std::shared_ptr<const TextureImage> images[2];
+  if (version >= 6) {
+    SsTextureDesc* textures[2] = {&desc.color_texture, &desc.normal_texture};
+    for (int k = 0; k < 2; ++k) {
+      if (r.get<int32_t>() == 0) continue;
+      SsTextureDesc& t = *textures[k];
+      for (float& v : t.transform) v = r.get<float>();
+      t.extension = r.get<int32_t>();
+      t.interpolation = r.get<int32_t>();
+      SsImageDesc image{};
+      image.width = r.get<uint32_t>();
+      image.height = r.get<uint32_t>();
+      require(image.width >= 1 && image.height >= 1 && image.width <= TextureImage::kMaxSide &&
+                  image.height <= TextureImage::kMaxSide,
+              r.what() + ": texture size out of range");
+      std::vector<float> texels = r.getArray<float>(3 * size_t(image.width) * size_t(image.height));
+      image.rgb = texels.data();
+      try {
+        images[k] = std::make_shared<const TextureImage>(image);
+      } catch (const Error& e) {
+        fail(e.status(), r.what() + ": " + e.what());
+      }
+      t.image = reinterpret_cast<SsImage>(1);  // present; the image itself goes by images[k]
+    }
+    desc.normal_strength = r.get<float>();
+  }
+  scene.setMaterial(id, desc, std::move(profiles), images[0], images[1]);
 }
 
 FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>& applySettings,
@@ -247,15 +275,27 @@ void saveScene(const Scene& scene, const SsSettings& settings, FrameSize frame, 
       w.put(id);
       const char* desc = reinterpret_cast<const char*>(&material.desc);
       for (size_t i = 0; i < kMaterialBytes; ++i) w.put(desc[i]);
-      if (!material.profiles) return;
-      const ProfileSet& set = *material.profiles;
-      w.put(int32_t(set.segments()));
-      w.put(float(set.radiusMm()));
-      w.put(int32_t(set.profileCount()));
-      w.put(int32_t(set.width()));
-      w.put(int32_t(set.height()));
-      w.putArray(set.palette());
-      w.putArray(set.map());
+      if (material.profiles) {
+        const ProfileSet& set = *material.profiles;
+        w.put(int32_t(set.segments()));
+        w.put(float(set.radiusMm()));
+        w.put(int32_t(set.profileCount()));
+        w.put(int32_t(set.width()));
+        w.put(int32_t(set.height()));
+        w.putArray(set.palette());
+        w.putArray(set.map());
+      }
+      for (const Texture* t : {&material.color, &material.normal}) {
+        w.put(int32_t(bool(*t)));
+        if (!*t) continue;
+        for (float v : t->transform) w.put(v);
+        w.put(t->extension);
+        w.put(t->interpolation);
+        w.put(uint32_t(t->image->width()));
+        w.put(uint32_t(t->image->height()));
+        w.putArray(flatten(t->image->texels()));
+      }
+      w.put(material.desc.normal_strength);
     });
   }
   for (const auto& entry : scene.meshes()) {

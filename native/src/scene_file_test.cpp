@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -42,6 +43,37 @@ class SceneFile : public ::testing::Test {
   void writeBytes(const std::vector<char>& bytes, size_t count) const {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), std::streamsize(count));
+  }
+  // Rewrites the saved file as an older format `version`: each record's payload goes through
+  // edit(tag, payload), which shortens it as that format had it; the sizes follow. Material
+  // records lose format 6's texture block (two absent textures and the normal strength) first.
+  // Returns how many settings records there were.
+  int rewriteAs(uint32_t version, const std::function<void(uint32_t, std::vector<char>&)>& edit) const {
+    std::vector<char> bytes = fileBytes(), out(bytes.begin(), bytes.begin() + 16);
+    std::memcpy(&out[8], &version, 4);
+    int settings = 0;
+    for (size_t at = 16; at + 16 <= bytes.size();) {
+      uint32_t tag;
+      uint64_t size;
+      std::memcpy(&tag, &bytes[at], 4);
+      std::memcpy(&size, &bytes[at + 8], 8);
+      std::vector<char> payload(bytes.begin() + std::ptrdiff_t(at + 16), bytes.begin() + std::ptrdiff_t(at + 16 + size));
+      if (tag == 1 && version < 6) payload.resize(payload.size() - 12);
+      settings += tag == 5;
+      edit(tag, payload);
+      uint64_t shorter = payload.size();
+      out.insert(out.end(), bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + 8));
+      const char* sizeBytes = reinterpret_cast<const char*>(&shorter);
+      out.insert(out.end(), sizeBytes, sizeBytes + 8);
+      out.insert(out.end(), payload.begin(), payload.end());
+      at += 16 + size;
+    }
+    writeBytes(out, out.size());
+    return settings;
+  }
+  // Drops payload[from, from + count).
+  static void erase(std::vector<char>& payload, size_t from, size_t count) {
+    payload.erase(payload.begin() + std::ptrdiff_t(from), payload.begin() + std::ptrdiff_t(from + count));
   }
 
   testing::EglContext gl;
@@ -178,47 +210,22 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
   settings.target_error = 0.05f;
   ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
   ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
-  std::vector<char> bytes = fileBytes();
-  uint32_t one = 1;
-  std::memcpy(&bytes[8], &one, 4);
-  size_t at = 16, found = 0;
-  while (at + 16 <= bytes.size()) {
-    uint32_t tag;
-    uint64_t size;
-    std::memcpy(&tag, &bytes[at], 4);
-    std::memcpy(&size, &bytes[at + 8], 8);
-    if (tag == 1) {  // a material: drop profile_model, the last field before the profile set
-      uint64_t shorter = size - 4;
-      std::memcpy(&bytes[at + 8], &shorter, 8);
-      size_t field = at + 16 + 4 + offsetof(SsMaterialDesc, profile_model);
-      bytes.erase(bytes.begin() + std::ptrdiff_t(field), bytes.begin() + std::ptrdiff_t(field + 4));
-      size = shorter;
-    }
+  int found = rewriteAs(1, [](uint32_t tag, std::vector<char>& payload) {
+    if (tag == 1)  // a material: drop profile_model, the last field before the profile set
+      erase(payload, 4 + offsetof(SsMaterialDesc, profile_model), 4);
     if (tag == 3) {  // lights: drop the fields from world_directions on, the last of each
       uint32_t count;
-      std::memcpy(&count, &bytes[at + 16], 4);
-      ASSERT_EQ(size, 4 + count * sizeof(SsLightDesc));
+      std::memcpy(&count, payload.data(), 4);
+      ASSERT_EQ(payload.size(), 4 + count * sizeof(SsLightDesc));
       size_t added = sizeof(SsLightDesc) - offsetof(SsLightDesc, world_directions);
-      for (uint32_t i = count; i-- > 0;) {
-        size_t end = at + 16 + 4 + (i + 1) * sizeof(SsLightDesc);
-        bytes.erase(bytes.begin() + std::ptrdiff_t(end - added), bytes.begin() + std::ptrdiff_t(end));
-      }
-      uint64_t shorter = size - added * count;
-      std::memcpy(&bytes[at + 8], &shorter, 8);
-      size = shorter;
+      for (uint32_t i = count; i-- > 0;) erase(payload, 4 + (i + 1) * sizeof(SsLightDesc) - added, added);
     }
     if (tag == 5) {  // settings: drop the fields from target_error on
-      ASSERT_EQ(size, sizeof(SsSettings));
-      uint64_t shorter = offsetof(SsSettings, target_error);
-      std::memcpy(&bytes[at + 8], &shorter, 8);
-      bytes.erase(bytes.begin() + std::ptrdiff_t(at + 16 + shorter), bytes.begin() + std::ptrdiff_t(at + 16 + size));
-      size = shorter;
-      ++found;
+      ASSERT_EQ(payload.size(), sizeof(SsSettings));
+      payload.resize(offsetof(SsSettings, target_error));
     }
-    at += 16 + size;
-  }
-  ASSERT_EQ(found, 1u);
-  writeBytes(bytes, bytes.size());
+  });
+  ASSERT_EQ(found, 1);
   SsContext old = nullptr;
   ASSERT_EQ(ssNewContext(&old), SS_OK);
   ASSERT_EQ(ssLoadScene(old, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
@@ -252,26 +259,10 @@ TEST_F(SceneFile, AntiAliasingSettingsRoundTripAndFormatFourTakesOneSample) {
   EXPECT_FLOAT_EQ(got.filter_width, 2.5f);
   EXPECT_EQ(got.first_sample, 3);
 
-  std::vector<char> bytes = fileBytes();
-  uint32_t four = 4;
-  std::memcpy(&bytes[8], &four, 4);
-  size_t at = 16, found = 0;
-  while (at + 16 <= bytes.size()) {
-    uint32_t tag;
-    uint64_t size;
-    std::memcpy(&tag, &bytes[at], 4);
-    std::memcpy(&size, &bytes[at + 8], 8);
-    if (tag == 5) {  // settings: drop the fields from samples on
-      uint64_t shorter = offsetof(SsSettings, samples);
-      std::memcpy(&bytes[at + 8], &shorter, 8);
-      bytes.erase(bytes.begin() + std::ptrdiff_t(at + 16 + shorter), bytes.begin() + std::ptrdiff_t(at + 16 + size));
-      size = shorter;
-      ++found;
-    }
-    at += 16 + size;
-  }
-  ASSERT_EQ(found, 1u);
-  writeBytes(bytes, bytes.size());
+  int found = rewriteAs(4, [](uint32_t tag, std::vector<char>& payload) {
+    if (tag == 5) payload.resize(offsetof(SsSettings, samples));  // settings: drop the fields from samples on
+  });
+  ASSERT_EQ(found, 1);
   ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
   ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
   EXPECT_EQ(got.samples, 1);

@@ -115,10 +115,14 @@ class ViewportSession:
                     materials.update(self.frame.materials)
         for name in materials:
             material = bpy.data.materials.get(name)
+            before = self.frame.materials.get(name)
             described = self.frame.refresh_material(material) if material is not None else None
             if described is not None:
                 self.pending_materials[described[0]] = described[1]
                 self.counters.material_exports += 1
+                if before is not None and before[1].uv_maps != described[1].uv_maps:
+                    # A mesh sends the UV map its materials' textures read (export.mesh): send them again.
+                    geometry.update(key[0] for key in self.objects)
 
         seen = set()
         light_descs = []

@@ -23,11 +23,31 @@ def column_major(matrix, origin=None):
     return tuple(values)
 
 
+# The 2 x 3 map of UVs that leaves them as they are: u' = u, v' = v (SsTextureDesc.transform).
+IDENTITY_UV = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0)
+
+
+@dataclass
+class Texture:
+    """SsTextureDesc: an image (a native.Image) read at (u', v') = transform x (u, v, 1), row-major
+    (u' = t[0] u + t[1] v + t[2], v' = t[3] u + t[4] v + t[5]); extension: "REPEAT", "EXTEND" or "CLIP";
+    interpolation: "LINEAR" or "CLOSEST" (docs/TEXTURES.md)."""
+    image: Any
+    transform: Tuple[float, ...] = IDENTITY_UV
+    extension: str = "REPEAT"
+    interpolation: str = "LINEAR"
+
+
 @dataclass
 class Material:
     """SsMaterialDesc. kind: "OPAQUE", "DIPOLE", "SUBEDIT" (which has profiles, a native.ProfileSet) or
     "HOLDOUT" (a hole in the image);
-    profile_model: "DIPOLE" or "TABULATED" (a DIPOLE kind's)."""
+    profile_model: "DIPOLE" or "TABULATED" (a DIPOLE kind's);
+    color_texture: OPAQUE: the albedo times base_color; DIPOLE, SUBEDIT: a tint (sqrt of it where
+    light enters and where it leaves); normal_texture: a tangent-space normal map, mixed in by
+    normal_strength (docs/TEXTURES.md);
+    uv_maps: the UV maps the textures read, in the order met ("" is the mesh's render UV map); not
+    sent to the library: export.mesh sends a mesh's one UV map from them."""
     kind: str
     base_color: Vector3 = ZERO3
     sigma_a: Vector3 = ZERO3
@@ -38,6 +58,10 @@ class Material:
     specular: float = 0.0
     profile_model: str = "DIPOLE"
     profiles: Any = None
+    color_texture: Optional[Texture] = None
+    normal_texture: Optional[Texture] = None
+    normal_strength: float = 0.0
+    uv_maps: Tuple[str, ...] = ()
 
 
 @dataclass

@@ -8,6 +8,7 @@ import bpy
 import numpy as np
 
 from .. import artist, native, principled, version
+from . import textures
 from .data import ExportError, Material
 
 # The profile sets made so far (SubEdit files, Principled BSDFs, the artist model), most recently
@@ -153,61 +154,109 @@ DEFAULT_MATERIAL = Material(kind="OPAQUE", base_color=(0.8, 0.8, 0.8), roughness
 
 def unread_inputs(material, node, names, warnings):
     """Warns, one line a socket, of the Principled BSDF's inputs among `names` that are connected to
-    a node SubSplat does not read (a texture into Base Color, a normal map): they render as the
-    socket's own value, or not at all, and the artist is told."""
+    a node SubSplat does not read (a texture into Roughness, a Bump node into Normal): they render as
+    the socket's own value, or not at all, and the artist is told."""
     if node is None or warnings is None:
         return
     for name in names:
         socket = node.inputs.get(name)
-        if socket is not None and socket.is_linked:
-            source = socket.links[0].from_node
-            what = "its own value" if name != "Normal" else "the mesh's shading normal"
-            warnings.append(f"material '{material.name}': {name} is connected to a {source.bl_label} node, "
-                            f"which SubSplat does not read; it renders {what}")
+        if socket is not None and textures.linked(socket) is not None:
+            _warn_unread(material, socket, None, warnings)
+
+
+def _warn_unread(material, socket, reason, warnings):
+    """The one-line warning of a socket whose link SubSplat does not read; reason: why, or None."""
+    if warnings is None:
+        return
+    source = textures.linked(socket)[0]
+    what = "its own value" if socket.name != "Normal" else "the mesh's shading normal"
+    because = f" ({reason})" if reason else ""
+    warnings.append(f"material '{material.name}': {socket.name} is connected to a {source.bl_label} node, "
+                    f"which SubSplat does not read{because}; it renders {what}")
+
+
+def read_textures(material, node, data, colour, warnings):
+    """Sets data's textures from the Principled BSDF `node` (docs/TEXTURES.md): with colour, an
+    Image Texture into Base Color (OPAQUE: the albedo, base_color then white; translucent: the
+    tint); a Normal Map of an Image Texture into Normal. Other links into them are warned."""
+    if node is None:
+        return
+    uv_maps = []
+    if colour:
+        socket = node.inputs["Base Color"]
+        try:
+            found = textures.image_texture(material, socket, warnings)
+        except textures.Unread as unread:
+            _warn_unread(material, socket, unread.reason, warnings)
+        else:
+            if found is not None:
+                data.color_texture, uv_map = found
+                uv_maps.append(uv_map)
+                if data.kind == "OPAQUE":
+                    data.base_color = (1.0, 1.0, 1.0)
+    socket = node.inputs["Normal"]
+    try:
+        found = textures.normal_map(material, socket, warnings)
+    except textures.Unread as unread:
+        _warn_unread(material, socket, unread.reason, warnings)
+    else:
+        if found is not None:
+            data.normal_texture, data.normal_strength, maps = found
+            uv_maps.extend(maps)
+    data.uv_maps = tuple(dict.fromkeys(uv_maps))  # each once, in the order met (export.mesh chooses)
 
 
 def material_data(material, warnings=None):
     """The Material data of a Blender material (None: the default grey).
 
-    A SUBEDIT Material holds its ProfileSet (this module's cache keeps it too). Warnings about the
-    material (inputs that are not read) are appended to `warnings`.
+    A SUBEDIT Material holds its ProfileSet (this module's cache keeps it too), a textured one its
+    native Images (export.textures keeps them too). Warnings about the material (inputs that are not
+    read) are appended to `warnings`.
     """
     if material is None:
         return dataclasses.replace(DEFAULT_MATERIAL)
     settings = material.subsplat
     if settings.enabled:
-        data = Material(kind="DIPOLE", sigma_a=tuple(settings.sigma_a), sigma_s_prime=tuple(settings.sigma_s_prime),
-                        eta=settings.eta, mm_per_unit=settings.mm_per_unit, roughness=settings.roughness,
-                        specular=settings.specular, profile_model=settings.profile_model)
-        if settings.source == "PRINCIPLED" and settings.profile_model == "TABULATED":
-            # An untextured BSDF is one medium: rendered as such, the model's angular and thin-part
-            # factors apply (a profile set keeps radial profiles alone).
-            coefficients = principled_coefficients(material, warnings)
-            sigma_a, sigma_s, _key = coefficients
-            if uniform(sigma_a, sigma_s):
-                data.sigma_a = tuple(float(v) for v in sigma_a.reshape(-1, 3)[0])
-                data.sigma_s_prime = tuple(float(v) for v in sigma_s.reshape(-1, 3)[0])
-                return data
-            data.kind, data.profiles = "SUBEDIT", principled_profiles(material, None, coefficients)
-            if warnings is not None:
-                warnings.append(f"material '{material.name}': its textured Principled BSDF varies the medium per "
-                                "texel, which SubSplat renders with the TABULATED model's radial profiles alone: "
-                                "without its angular and thin-part factors (those of one medium; docs/TRANSPORT.md)")
-            return data
-        profiles = source_profiles(material, warnings)
-        if profiles is not None:
-            data.kind = "SUBEDIT"
-            data.profiles = profiles
-        if settings.source != "PRINCIPLED":  # the BSDF's colour is not this source's: say what is unused
-            unread_inputs(material, principled_node(material), ("Base Color", "Normal"), warnings)
-        else:
-            unread_inputs(material, principled_node(material), ("Normal",), warnings)
+        data = translucent_data(material, warnings)
+        # A source other than the BSDF does not take its colour: an image there is a tint. (4.x's
+        # PRINCIPLED source reads Base Color as its albedo, principled.py.)
+        read_textures(material, principled_node(material), data, settings.source != "PRINCIPLED", warnings)
         return data
     node = principled_node(material)
     if node is not None:
-        unread_inputs(material, node, ("Base Color", "Roughness", version.PRINCIPLED_SPECULAR, "Normal"), warnings)
-        return Material(kind="OPAQUE", base_color=tuple(node.inputs["Base Color"].default_value[:3]),
+        data = Material(kind="OPAQUE", base_color=tuple(node.inputs["Base Color"].default_value[:3]),
                         roughness=node.inputs["Roughness"].default_value,
                         specular=min(max(node.inputs[version.PRINCIPLED_SPECULAR].default_value, 0.0), 1.0))
+        read_textures(material, node, data, True, warnings)
+        unread_inputs(material, node, ("Roughness", version.PRINCIPLED_SPECULAR), warnings)
+        return data
     return Material(kind="OPAQUE", base_color=tuple(material.diffuse_color[:3]), roughness=material.roughness,
                     specular=material.specular_intensity)
+
+
+def translucent_data(material, warnings=None):
+    """The Material data of a translucent material (material.subsplat.enabled), without textures."""
+    settings = material.subsplat
+    data = Material(kind="DIPOLE", sigma_a=tuple(settings.sigma_a), sigma_s_prime=tuple(settings.sigma_s_prime),
+                    eta=settings.eta, mm_per_unit=settings.mm_per_unit, roughness=settings.roughness,
+                    specular=settings.specular, profile_model=settings.profile_model)
+    if settings.source == "PRINCIPLED" and settings.profile_model == "TABULATED":
+        # An untextured BSDF is one medium: rendered as such, the model's angular and thin-part
+        # factors apply (a profile set keeps radial profiles alone).
+        coefficients = principled_coefficients(material, warnings)
+        sigma_a, sigma_s, _key = coefficients
+        if uniform(sigma_a, sigma_s):
+            data.sigma_a = tuple(float(v) for v in sigma_a.reshape(-1, 3)[0])
+            data.sigma_s_prime = tuple(float(v) for v in sigma_s.reshape(-1, 3)[0])
+            return data
+        data.kind, data.profiles = "SUBEDIT", principled_profiles(material, None, coefficients)
+        if warnings is not None:
+            warnings.append(f"material '{material.name}': its textured Principled BSDF varies the medium per "
+                            "texel, which SubSplat renders with the TABULATED model's radial profiles alone: "
+                            "without its angular and thin-part factors (those of one medium; docs/TRANSPORT.md)")
+        return data
+    profiles = source_profiles(material, warnings)
+    if profiles is not None:
+        data.kind = "SUBEDIT"
+        data.profiles = profiles
+    return data

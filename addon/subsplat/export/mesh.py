@@ -72,14 +72,53 @@ def mesh_arrays(mesh):
     return vertices[loop_vertex], _corner_normals(mesh, vertices, loop_vertex), triangles.reshape(-1, 3), slots
 
 
-def corner_uvs(mesh):
-    """Per-corner UVs of the UV map used for rendering, (corners, 2); None without one."""
-    layer = next((layer for layer in mesh.uv_layers if layer.active_render), mesh.uv_layers.active)
+def render_uv_layer(mesh):
+    """The UV map Blender renders with (the one marked for rendering, else the active one), or None."""
+    return next((layer for layer in mesh.uv_layers if layer.active_render), mesh.uv_layers.active)
+
+
+def corner_uvs(mesh, name=None):
+    """Per-corner UVs of the UV map `name` (None: the one used for rendering), (corners, 2); None
+    without one."""
+    layer = mesh.uv_layers.get(name) if name else render_uv_layer(mesh)
     if layer is None:
         return None
     uvs = np.empty(len(mesh.loops) * 2, dtype=np.float32)
     layer.data.foreach_get("uv", uvs)
     return uvs.reshape(-1, 2)
+
+
+def uv_layer_name(obj, mesh, frame):
+    """The UV map a mesh sends: the first its materials' textures read (data.Material.uv_maps; a
+    material with a profile map reads the render UV map), else the render UV map. The library takes
+    one UV map per mesh: materials that want others are warned, as is a UV map the mesh lacks."""
+    render = render_uv_layer(mesh)
+    if render is None:
+        return None
+    wanted = []  # (layer name, material name)
+    for slot in obj.material_slots:
+        if slot.material is None or slot.material.name_full not in frame.materials:
+            continue
+        described = frame.materials[slot.material.name_full][1]
+        names = described.uv_maps + (("",) if slot.material.name_full in frame.mapped else ())
+        for name in names:
+            if name and name not in mesh.uv_layers:
+                frame.warnings.append(f"object '{obj.name}' has no UV map '{name}', which material "
+                                      f"'{slot.material.name}' reads: SubSplat reads its render UV map "
+                                      f"'{render.name}'")
+                name = ""
+            wanted.append((name or render.name, slot.material.name))
+    if not wanted:
+        return render.name
+    chosen = wanted[0][0]
+    others = [(name, material) for name, material in wanted if name != chosen]
+    if others:
+        name, material = others[0]
+        readers = (f"material '{material}' reads the UV maps '{chosen}' and '{name}'" if material == wanted[0][1] else
+                   f"material '{wanted[0][1]}' reads the UV map '{chosen}' and material '{material}' '{name}'")
+        frame.warnings.append(f"object '{obj.name}': {readers}; SubSplat sends one UV map a mesh and renders "
+                              f"'{chosen}' for all")
+    return chosen
 
 
 def export_mesh(obj, matrix, frame, holdout=False):
@@ -111,7 +150,7 @@ def export_mesh(obj, matrix, frame, holdout=False):
                 [frame.material_id(None)]
         lookup = np.asarray(slot_materials, dtype=np.uint32)
         triangle_materials = lookup[np.minimum(slots, len(lookup) - 1)]
-        uvs = corner_uvs(mesh)
+        uvs = corner_uvs(mesh, None if holdout else uv_layer_name(obj, mesh, frame))
         if uvs is None:
             for slot in obj.material_slots:
                 if slot.material is not None and slot.material.name_full in frame.mapped:

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 15
+#define SS_API_VERSION 16
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -45,6 +45,8 @@ typedef enum SsStatus {
 typedef struct SsContext_* SsContext;
 /* A heterogeneous material's SubEdit profiles and their map (see below). */
 typedef struct SsProfileSet_* SsProfileSet;
+/* An image that materials read through their meshes' UVs (textures, docs/TEXTURES.md). */
+typedef struct SsImage_* SsImage;
 
 typedef enum SsMethod {
   SS_METHOD_BRUTE = 0,    /* every finest-level texel splatted (Shah et al. 2009) */
@@ -97,6 +99,27 @@ typedef enum SsMaterialKind {
                             * pixels are transparent black (alpha 0) */
 } SsMaterialKind;
 
+/* How a texture reads outside [0, 1] and between texels (Blender's Image Texture node). */
+typedef enum SsTextureExtension {
+  SS_TEXTURE_REPEAT = 0,
+  SS_TEXTURE_EXTEND = 1,  /* the edge texels continue */
+  SS_TEXTURE_CLIP = 2     /* black (0, 0, 0) outside */
+} SsTextureExtension;
+typedef enum SsTextureInterpolation {
+  SS_TEXTURE_LINEAR = 0,
+  SS_TEXTURE_CLOSEST = 1
+} SsTextureInterpolation;
+
+/* One texture of a material: an image read at (u', v') = transform x (u, v, 1), the mesh's UVs
+ * through a 2 x 3 affine map (row-major: u' = t[0] u + t[1] v + t[2], v' = t[3] u + t[4] v + t[5];
+ * all six 0: the identity). image NULL: none. A mesh without UVs reads it at (0, 0). */
+typedef struct SsTextureDesc {
+  SsImage image;
+  float transform[6];
+  int32_t extension;       /* SsTextureExtension */
+  int32_t interpolation;   /* SsTextureInterpolation */
+} SsTextureDesc;
+
 /* DIPOLE materials: the model their profile comes from (docs/TRANSPORT.md, "The TABULATED model"). */
 typedef enum SsProfileModel {
   SS_PROFILE_DIPOLE = 0,    /* the classical dipole (Jensen et al. 2001), the paper's */
@@ -117,6 +140,16 @@ typedef struct SsMaterialDesc {
   /* SUBEDIT: the profiles; the material keeps its own reference, so the set may be
    * released after ssSetMaterial. Meshes without UVs get the set's most common profile. */
   SsProfileSet profiles;
+  /* Textures (docs/TEXTURES.md); the material keeps its own references to the images.
+   * color: OPAQUE: the diffuse albedo is base_color x the texture's rgb, each in [0, 1].
+   * DIPOLE, SUBEDIT: a tint T in [0, 1]: the light is multiplied by sqrt(T) where it enters and
+   * by sqrt(T) where it leaves (so a uniform tint T scales the material's reflectance by T).
+   * normal: a tangent-space normal map (rgb in [0, 1] as 0.5 (n + 1), OpenGL's green up, as
+   * Blender's Normal Map node), mixed with the mesh's normal by normal_strength in [0, 10]
+   * (0 with an image: 1). The tangent frame is each triangle's, from its UVs. */
+  SsTextureDesc color_texture;
+  SsTextureDesc normal_texture;
+  float normal_strength;
 } SsMaterialDesc;
 
 typedef struct SsLightDesc {
@@ -282,6 +315,7 @@ SS_API SsSettings ssDefaultSettings(void);
 typedef struct SsResourceCounts {
   int64_t contexts;
   int64_t profile_sets;
+  int64_t images;
   int64_t textures, buffers, framebuffers, vertex_arrays, programs, queries;
   int64_t orphaned_gl_objects;
 } SsResourceCounts;
@@ -377,6 +411,15 @@ SS_API SsStatus ssLoadProfileSet(const char* path, float tolerance, SsProfileSet
 SS_API SsStatus ssSaveProfileSet(SsProfileSet set, const char* path);
 SS_API SsStatus ssGetProfileSetInfo(SsProfileSet set, SsProfileSetInfo* out);
 SS_API SsStatus ssReleaseProfileSet(SsProfileSet set);
+
+/* Images (docs/TEXTURES.md); no GL needed until a material that uses one is rendered.
+ * Materials keep their own reference, so an image may be released after ssSetMaterial. */
+typedef struct SsImageDesc {
+  uint32_t width, height;  /* texels in [1, 16384]; row 0 at v = 0 */
+  const float* rgb;        /* 3 * width * height scene-linear values, finite, in [0, 1e4] */
+} SsImageDesc;
+SS_API SsStatus ssNewImage(const SsImageDesc* desc, SsImage* out);
+SS_API SsStatus ssReleaseImage(SsImage image);
 
 /* Material model, no GL needed. */
 typedef struct SsProfileInfo {

@@ -41,7 +41,10 @@
   X(UNIT_TRANSPORT_TABLES, 22, GL_TEXTURE_2D_ARRAY)         \
   X(UNIT_IRRADIANCE_EXIT_DEPTH, 23, GL_TEXTURE_2D)             \
   X(UNIT_FIRST_SAMPLE_POSITION_OBJECT, 24, GL_TEXTURE_2D)     \
-  X(UNIT_SHADOW_DEPTH, 25, GL_TEXTURE_2D)
+  X(UNIT_SHADOW_DEPTH, 25, GL_TEXTURE_2D)                     \
+  X(UNIT_SPLATTING_ALBEDO, 26, GL_TEXTURE_2D)                 \
+  X(UNIT_SPLATTING_SHADING_NORMAL, 27, GL_TEXTURE_2D)         \
+  X(UNIT_TEXTURE_TEXELS, 28, GL_TEXTURE_BUFFER)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \

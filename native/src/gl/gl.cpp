@@ -183,6 +183,16 @@ Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int lay
   return texture;
 }
 
+Texture makeBufferTexture(GLenum internalFormat, const Buffer& buffer) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  Texture texture(id);
+  glBindTexture(GL_TEXTURE_BUFFER, id);
+  glTexBuffer(GL_TEXTURE_BUFFER, internalFormat, buffer.id());
+  glBindTexture(GL_TEXTURE_BUFFER, 0);
+  return texture;
+}
+
 Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage) {
   reserve(bytes);
   GLuint id = 0;

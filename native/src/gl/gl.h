@@ -128,6 +128,8 @@ Texture makeTexture2D(GLenum internalFormat, int width, int height, GLenum filte
 Texture makeTexture2DArray(GLenum internalFormat, int width, int height, int layers,
                            GLenum filter = GL_NEAREST);
 Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage = GL_STATIC_DRAW);
+// A buffer texture reading `buffer`'s contents as internalFormat texels (GL_TEXTURE_BUFFER).
+Texture makeBufferTexture(GLenum internalFormat, const Buffer& buffer);
 VertexArray makeVertexArray();
 Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture);
 // Compiles and links shaders by name from the embedded table (shaders/*.glsl);

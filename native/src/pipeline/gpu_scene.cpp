@@ -26,11 +26,7 @@ void GpuScene::meshSet(uint32_t objectId, const Mesh& m) {
   glBindVertexArray(0);
   mesh.triangleMaterialBuffer =
       gl::makeBuffer(GL_TEXTURE_BUFFER, sizeof(uint32_t) * m.triangleCount, nullptr, GL_DYNAMIC_DRAW);
-  GLuint texture = 0;
-  glGenTextures(1, &texture);
-  mesh.triangleMaterials = gl::Texture(texture);
-  glBindTexture(GL_TEXTURE_BUFFER, texture);
-  glTexBuffer(GL_TEXTURE_BUFFER, GL_R32UI, mesh.triangleMaterialBuffer.id());
+  mesh.triangleMaterials = gl::makeBufferTexture(GL_R32UI, mesh.triangleMaterialBuffer);
   gl::checkErrors("mesh upload");
   meshes_[objectId] = std::move(mesh);
   uploadedResolution_ = ~0ull;  // its material indices are not uploaded yet
@@ -42,11 +38,7 @@ void GpuScene::update(const Scene& scene) {
   if (uploadedResolution_ == scene.resolutionCount()) return;
   const std::vector<uint16_t>& maps = scene.profileMaps();
   profileMapBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, maps.size() * sizeof(uint16_t), maps.data());
-  GLuint mapTexture = 0;
-  glGenTextures(1, &mapTexture);
-  profileMapTexture_ = gl::Texture(mapTexture);
-  glBindTexture(GL_TEXTURE_BUFFER, mapTexture);
-  glTexBuffer(GL_TEXTURE_BUFFER, GL_R16UI, profileMapBuffer_.id());
+  profileMapTexture_ = gl::makeBufferTexture(GL_R16UI, profileMapBuffer_);
   for (const auto& [objectId, m] : scene.meshes()) {
     const std::vector<uint32_t>& dense = m.denseMaterials;
     glBindBuffer(GL_TEXTURE_BUFFER, meshes_.at(objectId).triangleMaterialBuffer.id());

@@ -1,9 +1,12 @@
 #include "pipeline/material_tables.h"
 
 #include <algorithm>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "material/splat_kernel.h"
+#include "util/error.h"
 #include "world_light.h"
 
 namespace subsplat {
@@ -14,19 +17,45 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
   std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
   int layers = 0, transportLayers = 0;
   uint32_t mapOffset = 0;
+  // Each image once, wherever materials share it.
+  std::map<const TextureImage*, uint32_t> imageOffsets;
+  std::vector<float> texels;
+  GLint maxTexels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  auto place = [&](const Texture& t, uint32_t location[4], float rowU[4], float rowV[4]) {
+    if (!t) return;
+    const TextureImage& image = *t.image;
+    auto [it, added] = imageOffsets.try_emplace(&image, uint32_t(texels.size() / 3));
+    if (added) {
+      size_t count = image.texels().size();
+      if (texels.size() / 3 + count > size_t(std::max(maxTexels, 0)))
+        fail(SS_LIMIT_EXCEEDED, "the materials' textures hold " + std::to_string(texels.size() / 3 + count) +
+                                    " texels, more than this GPU's buffer texture limit of " + std::to_string(maxTexels));
+      const float* first = &image.texels().front().x;
+      texels.insert(texels.end(), first, first + 3 * count);
+    }
+    location[0] = it->second;
+    location[1] = uint32_t(image.width());
+    location[2] = uint32_t(image.height());
+    location[3] = uint32_t(t.extension) | uint32_t(t.interpolation) << 2;
+    for (int k = 0; k < 3; ++k) rowU[k] = t.transform[k], rowV[k] = t.transform[3 + k];
+  };
   for (size_t i = 0; i < materials.size(); ++i) {
     const MaterialEntry& e = materials[i];
     const SsMaterialDesc& d = e.desc;
     MaterialGpu& g = gpu[i];
     // w: 1 translucent, 0 opaque, -1 holdout (common.glsl: isTranslucent, isHoldout).
     float kind = isTranslucent(d) ? 1.0f : d.kind == SS_MATERIAL_HOLDOUT ? -1.0f : 0.0f;
-    g = MaterialGpu{{d.base_color[0], d.base_color[1], d.base_color[2], kind},
-                    {d.eta, d.roughness, d.specular, 0.0f},
-                    {0, 0, 0, 0},
-                    {0, 0, 0, uint32_t(e.base)},
-                    {0, 0, 0, -1.0f},
-                    {0, 0, 0, 0},
-                    {0, 0, 0, 0}};
+    g = MaterialGpu{};
+    g.baseColorKind[0] = d.base_color[0], g.baseColorKind[1] = d.base_color[1], g.baseColorKind[2] = d.base_color[2];
+    g.baseColorKind[3] = kind;
+    g.optics[0] = d.eta, g.optics[1] = d.roughness, g.optics[2] = d.specular;
+    g.profileMap[3] = uint32_t(e.base);
+    g.medium[3] = -1.0f;
+    g.colorU[0] = g.colorV[1] = g.normalU[0] = g.normalV[1] = 1.0f;  // no texture: the identity, unused
+    place(e.color, g.colorTexture, g.colorU, g.colorV);
+    place(e.normal, g.normalTexture, g.normalU, g.normalV);
+    g.normalU[3] = d.normal_strength;
     glm::vec3 response = unshadowedResponse(e);
     for (int c = 0; c < 3; ++c) g.world[c] = response[c];
     if (e.mapped()) {
@@ -53,6 +82,12 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
+  if (texels.empty()) texels.assign(3, 1.0f);
+  {
+    gl::Purpose purpose("the materials' textures (" + std::to_string(texels.size() / 3) + " texels)");
+    texelBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, texels.size() * sizeof(float), texels.data());
+  }
+  textureTexels_ = gl::makeBufferTexture(GL_RGB32F, texelBuffer_);
   kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
                                         std::max(layers, 1), GL_LINEAR);
   for (size_t i = 0; i < materials.size(); ++i) {

@@ -1,6 +1,6 @@
 // The material tables the passes read: one MaterialGpu record per dense
 // material entry, the splat kernel table of every translucent entry (one
-// layer each) and eq. 14's R-bar table.
+// layer each), eq. 14's R-bar table and the textures' texels.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +19,10 @@ struct MaterialGpu {
   float medium[4];      // TABULATED: rgb single-scattering albedo, w: transport layer (-1: none)
   float extinction[4];  // TABULATED: rgb sigma_t per scene unit
   float world[4];       // translucent: rgb unshadowedResponse (world_light.h)
+  uint32_t colorTexture[4];   // offset into the texels, width, height (0: none), extension | interpolation << 2
+  float colorU[4], colorV[4];  // the UV transform's rows
+  uint32_t normalTexture[4];
+  float normalU[4], normalV[4];  // normalU[3]: strength
 };
 
 // The per-material tables the splat shaders read.
@@ -38,10 +42,12 @@ class MaterialTables {
   GLuint materials() const { return materialBuffer_.id(); }
   KernelTables kernels() const { return {kernelTable_.id(), minimalRadius_.id(), kernelLayers_, transport_.id()}; }
   GLuint transport() const { return transport_.id(); }
+  // Every texture's image once, RGB32F texels one image after another (a buffer texture).
+  GLuint textureTexels() const { return textureTexels_.id(); }
 
  private:
-  gl::Buffer materialBuffer_;
-  gl::Texture kernelTable_, minimalRadius_, transport_;
+  gl::Buffer materialBuffer_, texelBuffer_;
+  gl::Texture kernelTable_, minimalRadius_, transport_, textureTexels_;
   int kernelLayers_ = 1;
   float uploadedEpsilon_ = -1.0f;
   uint64_t uploadedMaterialVersion_ = ~0ull;

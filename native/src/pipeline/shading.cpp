@@ -46,6 +46,8 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   glUniform1f(uniform(p, "lightNearDepth"), view.nearDepth);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());
+  bindTexture(gl::UNIT_SPLATTING_SHADING_NORMAL, GL_TEXTURE_2D, splatting.shadingNormal());
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, shadow.lightDepth);
   bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, shadow.shadowDepth);
   glUniform1i(uniform(p, "shadowResolution"), shadow.shadowResolution);
@@ -86,6 +88,8 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   glUniform1i(uniform(p, "worldUnshadowed"), worldUnshadowed ? 1 : 0);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());
+  bindTexture(gl::UNIT_SPLATTING_SHADING_NORMAL, GL_TEXTURE_2D, splatting.shadingNormal());
   bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
   bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
   setTransportUniforms(p, transportTables);

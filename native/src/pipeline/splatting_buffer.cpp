@@ -11,11 +11,14 @@ void SplattingBuffer::resize(int width, int height, int levels) {
   if (width == width_ && height == height_ && levels == levels_) return;
   width_ = height_ = levels_ = 0;  // as in IrradianceBuffer::resize
   framebuffer_ = gl::Framebuffer();
-  for (gl::Texture* t : {&positionObject_, &normalMaterial_, &depth_}) t->reset();
+  for (gl::Texture* t : {&positionObject_, &normalMaterial_, &albedo_, &shadingNormal_, &depth_}) t->reset();
   positionObject_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
   normalMaterial_ = gl::makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, levels);
+  albedo_ = gl::makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
+  shadingNormal_ = gl::makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, width, height);
-  framebuffer_ = gl::makeFramebuffer({positionObject_.id(), normalMaterial_.id()}, depth_.id());
+  framebuffer_ = gl::makeFramebuffer({positionObject_.id(), normalMaterial_.id(), albedo_.id(), shadingNormal_.id()},
+                                     depth_.id());
   width_ = width;
   height_ = height;
   levels_ = levels;
@@ -49,6 +52,9 @@ void SplattingBuffer::render(const Scene& scene, const GpuScene& gpu) {
   const float none[4] = {0, 0, 0, -1};
   glClearBufferfv(GL_COLOR, 0, none);
   glClearBufferfv(GL_COLOR, 1, none);
+  const float white[4] = {1, 1, 1, 1}, zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 2, white);
+  glClearBufferfv(GL_COLOR, 3, zero);
   glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
   glClear(GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);

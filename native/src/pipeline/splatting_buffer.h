@@ -1,5 +1,5 @@
 // The splatting buffer (paper sec. 4, step 1): the surface seen from the
-// camera (position, normal, material per pixel), and its median-depth
+// camera (position, normal, material, texture colour and shading normal per pixel), and its median-depth
 // hierarchy for multiresolution splatting.
 #pragma once
 
@@ -18,11 +18,14 @@ class SplattingBuffer {
   int levels() const { return levels_; }
   GLuint positionObject() const { return positionObject_.id(); }
   GLuint normalMaterial() const { return normalMaterial_.id(); }
+  // Level 0 only: the colour texture per pixel (1 without one) and the normal map's shading normal.
+  GLuint albedo() const { return albedo_.id(); }
+  GLuint shadingNormal() const { return shadingNormal_.id(); }
 
  private:
   int width_ = 0, height_ = 0, levels_ = 0;
   gl::Program program_, reduceProgram_;
-  gl::Texture positionObject_, normalMaterial_, depth_;
+  gl::Texture positionObject_, normalMaterial_, albedo_, shadingNormal_, depth_;
   gl::Framebuffer framebuffer_;
 };
 

@@ -512,6 +512,11 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
           }
           flux += lightFlux;
         }
+        // The colour texture's tint, sqrt(T) as the light enters (irradiance_buffer.frag).
+        if (entries[s.material].color) {
+          glm::vec3 root = glm::sqrt(entries[s.material].color.sample(uv0 + centre.x * (uv1 - uv0) + centre.y * (uv2 - uv0)));
+          flux *= root, fluxMu0 *= root;
+        }
         s.flux = flux;
         s.fluxMu0 = fluxMu0;
       };
@@ -565,52 +570,70 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
       glm::vec3 view = camera.orthographic ? -forward : glm::normalize(cameraPos - p);
       if (glm::dot(n, view) < 0.0f) n = -n;  // two-sided, as Cycles
-      const Profile& profile = profiles[entryAt(m, hit.triangle, w)];
+      uint32_t entryIndex = entryAt(m, hit.triangle, w);
+      const Profile& profile = profiles[entryIndex];
       if (profile.holdout) {  // a hole in the image, alpha 0 (final_shading.frag)
         return Shaded{glm::vec4(0.0f), glm::vec4(0.0f)};
+      }
+      // The textures (splatting_buffer.frag): the tint (opaque albedo) and the normal map's shading
+      // normal ns, which shades; n places the light through and the exitance's side weight.
+      const MaterialEntry& entry = entries[entryIndex];
+      glm::vec2 cornerUvs[3] = {glm::vec2(0.0f), glm::vec2(0.0f), glm::vec2(0.0f)};
+      if (m.mesh->hasUvs())
+        for (int k = 0; k < 3; ++k) cornerUvs[k] = m.mesh->cpuUvs[tri[k]];
+      glm::vec2 uv = w.x * cornerUvs[0] + w.y * cornerUvs[1] + w.z * cornerUvs[2];
+      glm::vec3 tint = entry.color.sample(uv);
+      glm::vec3 ns = n;
+      if (entry.normal) {
+        const glm::vec3 corners[3] = {m.positions[tri.x], m.positions[tri.y], m.positions[tri.z]};
+        glm::vec3 tangent, bitangent;
+        triangleTangents(corners, cornerUvs, tangent, bitangent);
+        ns = perturbedNormal(entry.normal.sample(uv), entry.desc.normal_strength, n, tangent, bitangent);
       }
 
       glm::vec3 color(0.0f);
       for (size_t li = 0; li < lights.size(); ++li) {
-        LightSample ls = lightAt(li, p, n);
-        float nl = glm::dot(n, ls.towardsLight);
-        if (nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
+        LightSample ls = lightAt(li, p, ns);
+        float nl = glm::dot(ns, ls.towardsLight);
+        if (glm::dot(n, ls.towardsLight) <= 0.0f || nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
         float soft = softSizes[li];
         float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, soft, lights[li].type == SS_LIGHT_SUN)
                                        : visible(rays, p, ng, ls) ? 1.0f : 0.0f;
         if (visibility <= 0.0f) continue;
         ls.irradiance *= visibility;
-        glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor / float(M_PI);
+        glm::vec3 diffuse = profile.translucent ? glm::vec3(0.0f) : profile.baseColor * tint / float(M_PI);
         // The world's specular reflection is its remainder's, below (world_light.h).
         float specular = rendered.world[li] ? 0.0f
-                                            : specularBrdf(n, ls.towardsLight, view, profile.roughness, profile.specular);
+                                            : specularBrdf(ns, ls.towardsLight, view, profile.roughness, profile.specular);
         color += (diffuse + glm::vec3(specular)) * ls.irradiance * nl;
       }
-      glm::vec3 mirrored = glm::reflect(-view, n);
+      glm::vec3 mirrored = glm::reflect(-view, ns);
+      float mu = std::max(glm::dot(ns, view), 0.0f);
       color += worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, mirrored.z) *
-               specularAlbedo(profile.roughness, profile.specular, glm::dot(n, view));
-      glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, n.z)
+               specularAlbedo(profile.roughness, profile.specular, mu);
+      glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, ns.z)
                                               : glm::vec3(0.0f);
-      if (!profile.translucent) color += ambient * profile.baseColor;
+      if (!profile.translucent) color += ambient * profile.baseColor * tint;
       if (profile.translucent) {
         glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
                            ? glm::dvec4(0.0)
                            : exitanceAt(objects[size_t(hit.mesh)], p, n, profile, entries, profiles, evaluations);
-        float mu = glm::dot(n, view);
         float ft = float(fresnelTransmittance(profile.eta, mu));
         glm::dvec3 exitFactor(1.0);
         double sum = b.x + b.y + b.z;
         if (profile.transport && sum > 0.0)
           for (int c = 0; c < 3; ++c) exitFactor[c] = profile.transport->exit(c, b.w / sum, mu);
-        color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI));
+        // The tint: sqrt(T) here as the light leaves; the light through a part and the world's
+        // remainder, T (they entered close by, docs/TEXTURES.md).
+        color += glm::vec3(glm::dvec3(b) * exitFactor) * (ft / float(M_PI)) * glm::sqrt(tint);
         if (profile.transport)
           for (size_t li = 0; li < lights.size(); ++li) {
             LightSample ls = sampleLight(lights[li], p);
             if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
-            color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize);
+            color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize) * tint;
           }
         if (rendered.unshadowed) {  // final_shading.frag's remainder
-          glm::vec3 world = ambient * profile.world * ft;
+          glm::vec3 world = ambient * profile.world * ft * tint;
           if (profile.transport)
             for (int c = 0; c < 3; ++c) {
               double root = std::sqrt(std::max(1.0 - profile.transport->albedo()[size_t(c)], 0.0));
