@@ -21,46 +21,80 @@ uniform int transmission;        // some material is TABULATED
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(location = 0) out vec4 radiance;
-// Soft shadows (docs/SOFT_SHADOWS.md): sun: the tangent of half its angle; point, spot, area: its
-// radius; 0: hard. lightNearDepth: the least light depth in the view (the search's widest reach).
+// Soft shadows (docs/SOFT_SHADOWS.md): sun: the tangent of half its angle; point, spot: its radius,
+// a disk facing the receiver; area: its own shape (lightSoftAxes, its semi-axes in the world; a
+// rectangle or an ellipse); 0: hard. lightNearDepth: the least light depth in the view (the
+// search's widest reach).
 uniform float lightSoftSize;
+uniform vec3 lightSoftAxes[2];
+uniform int lightSoftRectangle;
 uniform float lightNearDepth;
 
-// The penumbra's half-width (world) at a receiver at light depth `depth` behind a blocker at `blocker`.
-float penumbra(float depth, float blocker) {
-  return lightType == LIGHT_SUN ? (depth - blocker) * lightSoftSize
-                                : lightSoftSize * (depth - blocker) / max(blocker, 1e-6);
+// How far a penumbra reaches at a receiver at light depth `depth` behind a blocker at `blocker`, per
+// unit of the light's extent (similar triangles; the sun's extent is already an angle's tangent).
+float penumbraScale(float depth, float blocker) {
+  return lightType == LIGHT_SUN ? depth - blocker : (depth - blocker) / max(blocker, 1e-6);
 }
-// The share of the light's disk that reaches a receiver at light depth `depth` over the view's
-// point `ndc`, percentage-closer soft shadows (Fernando 2005): the blockers' mean depth over the
-// widest penumbra, then the share of the penumbra's texels that do not block. texel: a texel's
-// world size at the receiver; slope: how fast the receiver's depth grows across the map per world
-// unit (its bias); p: the receiver, for the map's scale there.
+// Point k of n spread over the light's shape in its own unit coordinates: the unit square (an R2
+// sequence) or the unit disk (a Vogel spiral); and the shape's norm (1 on its edge).
+vec2 shapePoint(int k, int n) {
+  if (lightSoftRectangle != 0) return fract(vec2(0.7548776662, 0.5698402910) * float(k) + 0.5) * 2.0 - 1.0;
+  float r = sqrt((float(k) + 0.5) / float(n)), phi = 2.39996323 * float(k);
+  return r * vec2(cos(phi), sin(phi));
+}
+float shapeNorm(vec2 x) { return lightSoftRectangle != 0 ? max(abs(x.x), abs(x.y)) : length(x); }
+
+// The share of the light that reaches a receiver at light depth `depth` over the view's point
+// `ndc`, percentage-closer soft shadows (Fernando 2005) over the light's own shape: the blockers'
+// mean depth, then the share of the penumbra's taps that do not block. texel: a texel's world size
+// at the receiver; slope: how fast the receiver's depth grows across the map per texel (its bias);
+// p: the receiver.
 float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
   vec2 centre = (ndc * 0.5 + 0.5) * float(resolution);
-  // Texels per world unit across the light's ray at p (a perspective map's texels shrink off its axis).
-  // The mean over two directions across the ray (the map is anisotropic there).
-  vec3 L = towardsLight(p), u = normalize(cross(L, abs(L.z) < 0.9 ? vec3(0, 0, 1) : vec3(1, 0, 0))), v = cross(L, u);
-  float h = 0.01 * (lightType == LIGHT_SUN ? texel * 100.0 : distance(p, lightPosition));
-  vec4 a = lightViewProj * vec4(p, 1.0), bu = lightViewProj * vec4(p + u * h, 1.0), bv = lightViewProj * vec4(p + v * h, 1.0);
-  float texelsPerWorld = 0.5 * (length(bu.xy / bu.w - a.xy / a.w) + length(bv.xy / bv.w - a.xy / a.w)) * 0.5 *
-                         float(resolution) / h;
-  const float golden = 2.39996323;  // taps on a Vogel spiral: a disk, as the light's
-  float search = clamp(penumbra(depth, lightNearDepth) * texelsPerWorld, 1.0, 32.0);
-  float blockers = 0.0, blockerDepth = 0.0;
-  for (int k = 0; k < 16; ++k) {
-    float r = sqrt((float(k) + 0.5) / 16.0), phi = golden * float(k);
-    vec2 offset = r * vec2(cos(phi), sin(phi)) * search;
-    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
-    float stored = texelFetch(irradianceLightDepth, t, 0).r;
-    if (stored < depth - 2.0 * texel - slope * length(offset) * texel) blockers += 1.0, blockerDepth += stored;
+  // The light's extent as two world vectors, and their images in the map at p, in texels (the
+  // penumbra is the light's shape scaled by penumbraScale; a perspective map's texels shrink off
+  // its axis and stretch across a slope).
+  vec3 A = lightSoftAxes[0], B = lightSoftAxes[1];
+  if (dot(A, A) == 0.0) {
+    vec3 L = towardsLight(p), u = normalize(cross(L, abs(L.z) < 0.9 ? vec3(0, 0, 1) : vec3(1, 0, 0)));
+    A = u * lightSoftSize, B = cross(L, u) * lightSoftSize;
   }
-  if (blockers == 0.0) return 1.0;
-  float width = clamp(penumbra(depth, blockerDepth / blockers) * texelsPerWorld, 0.5, 32.0);
+  float h = 0.01 * (lightType == LIGHT_SUN ? texel * 100.0 : distance(p, lightPosition));
+  vec4 c0 = lightViewProj * vec4(p, 1.0);
+  vec4 ca = lightViewProj * vec4(p + A * (h / max(length(A), 1e-20)), 1.0);
+  vec4 cb = lightViewProj * vec4(p + B * (h / max(length(B), 1e-20)), 1.0);
+  float toTexels = 0.5 * float(resolution);
+  vec2 ja = (ca.xy / ca.w - c0.xy / c0.w) * toTexels * (length(A) / h);
+  vec2 jb = (cb.xy / cb.w - c0.xy / c0.w) * toTexels * (length(B) / h);
+  float reach = max(max(length(ja), length(jb)), 1e-6);  // texels per unit of penumbraScale
+  // The blockers' mean depth: first over the widest penumbra (the nearest depth in the view), then
+  // again over the penumbra of that mean, counting only the blockers that lie in the cone from the
+  // receiver to the light (at a blocker's depth the cone is the light's shape scaled by
+  // penumbraScale(depth, stored)), so that parts of an occluder too far to the side to hide the
+  // light do not count.
+  float scale = clamp(penumbraScale(depth, lightNearDepth), 1.0 / reach, 32.0 / reach);
+  float blockerDepth = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    float blockers = 0.0, sum = 0.0;
+    for (int k = 0; k < 16; ++k) {
+      vec2 x = shapePoint(k, 16), offset = scale * (x.x * ja + x.y * jb);
+      ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
+      float stored = texelFetch(irradianceLightDepth, t, 0).r;
+      if (stored < depth - 2.0 * texel - slope * length(offset) * texel &&
+          (pass == 0 || shapeNorm(x) * scale <= penumbraScale(depth, stored) + 1.0 / reach))
+        blockers += 1.0, sum += stored;
+    }
+    if (blockers == 0.0) {
+      if (pass == 0) return 1.0;
+      break;  // the second look found none in the cone: keep the first's
+    }
+    blockerDepth = sum / blockers;
+    scale = clamp(penumbraScale(depth, blockerDepth), 1.0 / reach, 32.0 / reach);
+  }
+  float width = clamp(penumbraScale(depth, blockerDepth), 0.5 / reach, 32.0 / reach);
   float lit = 0.0;
   for (int k = 0; k < 32; ++k) {
-    float r = sqrt((float(k) + 0.5) / 32.0), phi = golden * float(k);
-    vec2 offset = r * vec2(cos(phi), sin(phi)) * width;
+    vec2 x = shapePoint(k, 32), offset = width * (x.x * ja + x.y * jb);
     ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
     float stored = texelFetch(irradianceLightDepth, t, 0).r;
     if (depth <= stored + 2.0 * texel + slope * length(offset) * texel) lit += 1.0;

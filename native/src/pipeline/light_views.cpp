@@ -23,11 +23,12 @@ float farthestCorner(const glm::vec3& from, const Bounds& b) {
   return far;
 }
 
+// up: the view's up vector (its image's rotation about forward: the faces of a cube must tile).
 LightView perspectiveView(const SsLightDesc& light, const glm::vec3& forward, float tanHalfFov,
-                          const Bounds& all, int resolution) {
+                          const Bounds& all, int resolution, const glm::vec3& up) {
   glm::vec3 position = glm::make_vec3(light.position);
   float far = std::max(farthestCorner(position, all) * 1.01f, 1e-6f);
-  glm::mat4 view = glm::lookAt(position, position + forward, anyPerpendicular(forward));
+  glm::mat4 view = glm::lookAt(position, position + forward, up);
   glm::mat4 proj = glm::perspective(2.0f * std::atan(tanHalfFov), 1.0f, far * 1e-5f, far);
   LightView v;
   v.light = &light;
@@ -76,11 +77,23 @@ std::vector<LightView> pointLikeViews(const SsLightDesc& light, const Bounds& tr
     glm::vec3 dir = glm::normalize(glm::make_vec3(light.direction));
     // A little wider than the cone, so the cone's edge is inside the view.
     float tanHalf = std::tan(std::min(0.5f * light.spot_size * 1.02f + 0.01f, 1.48f));
-    views.push_back(perspectiveView(light, dir, tanHalf, all, resolution));
+    views.push_back(perspectiveView(light, dir, tanHalf, all, resolution, anyPerpendicular(dir)));
+    return views;
+  }
+  if (light.type == SS_LIGHT_AREA) {
+    // A one-sided emitter: the five faces of a cube in its own frame that see in front of it, the
+    // first facing where it faces, so that what it lights head-on is one view (a soft shadow's
+    // filter does not reach across a seam between views: docs/SOFT_SHADOWS.md).
+    glm::vec3 n = glm::normalize(glm::make_vec3(light.direction)), a = glm::normalize(glm::make_vec3(light.area_axis));
+    a = glm::normalize(a - n * glm::dot(n, a));
+    glm::vec3 b = glm::cross(n, a);
+    views.push_back(perspectiveView(light, n, 1.0f, all, resolution, a));
+    for (const glm::vec3& side : {a, -a, b, -b}) views.push_back(perspectiveView(light, side, 1.0f, all, resolution, n));
     return views;
   }
   const glm::vec3 faces[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (const glm::vec3& face : faces) views.push_back(perspectiveView(light, face, 1.0f, all, resolution));
+  for (const glm::vec3& face : faces)
+    views.push_back(perspectiveView(light, face, 1.0f, all, resolution, anyPerpendicular(face)));
   return views;
 }
 
@@ -89,8 +102,20 @@ std::vector<LightView> pointLikeViews(const SsLightDesc& light, const Bounds& tr
 std::vector<LightView> lightViews(const SsLightDesc& light, const Bounds& translucent,
                                   const Bounds& all, int resolution) {
   std::vector<LightView> views = pointLikeViews(light, translucent, all, resolution);
-  for (LightView& v : views) v.softSize = lightSoftSize(light);
+  for (LightView& v : views) {
+    v.softSize = lightSoftSize(light);
+    if (light.type == SS_LIGHT_AREA) areaSemiAxes(light, v.softAxes[0], v.softAxes[1], v.softRectangle);
+  }
   return views;
+}
+
+void areaSemiAxes(const SsLightDesc& light, glm::vec3& a, glm::vec3& b, bool& rectangle) {
+  glm::vec3 n = glm::normalize(glm::make_vec3(light.direction)), x = glm::make_vec3(light.area_axis);
+  x = glm::normalize(x - n * glm::dot(n, x));
+  bool twoSizes = light.area_shape == SS_AREA_RECTANGLE || light.area_shape == SS_AREA_ELLIPSE;
+  a = x * (0.5f * light.area_size[0]);
+  b = glm::cross(n, x) * (0.5f * (twoSizes ? light.area_size[1] : light.area_size[0]));
+  rectangle = light.area_shape == SS_AREA_SQUARE || light.area_shape == SS_AREA_RECTANGLE;
 }
 
 float lightSoftSize(const SsLightDesc& light) {

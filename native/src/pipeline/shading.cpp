@@ -1,5 +1,7 @@
 #include "pipeline/shading.h"
 
+#include <glm/gtc/type_ptr.hpp>
+
 namespace subsplat {
 
 void Shading::resize(int width, int height) {
@@ -44,6 +46,8 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
   glUniform1f(uniform(p, "lightSoftSize"), view.softSize);
   glUniform1f(uniform(p, "lightNearDepth"), view.nearDepth);
+  glUniform3fv(uniform(p, "lightSoftAxes"), 2, glm::value_ptr(view.softAxes[0]));
+  glUniform1i(uniform(p, "lightSoftRectangle"), view.softRectangle ? 1 : 0);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());

@@ -291,20 +291,34 @@ bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, cons
 // of its radius facing p), on a Vogel spiral. softSize as LightView's (light_views.h).
 constexpr int kSoftShadowRays = 16;
 float softVisibility(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light,
-                     float softSize, bool sun) {
-  glm::vec3 w = light.towardsLight;
-  glm::vec3 u = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0)));
-  glm::vec3 v = glm::cross(w, u);
+                     const SsLightDesc& desc, float softSize) {
+  // The light's extent: an area light's own shape (its semi-axes, a rectangle or an ellipse), else a
+  // disk of radius softSize across the ray (a sun's: tan of half its angle).
+  glm::vec3 w = light.towardsLight, a, b;
+  bool rectangle = false;
+  if (desc.type == SS_LIGHT_AREA) {
+    areaSemiAxes(desc, a, b, rectangle);
+  } else {
+    a = glm::normalize(glm::cross(w, std::abs(w.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0)));
+    b = glm::cross(w, a) * softSize;
+    a *= softSize;
+  }
   const float golden = float(M_PI) * (3.0f - std::sqrt(5.0f));
   int seen = 0;
   for (int k = 0; k < kSoftShadowRays; ++k) {
-    float r = std::sqrt((k + 0.5f) / kSoftShadowRays), phi = golden * float(k);
-    glm::vec2 d = r * glm::vec2(std::cos(phi), std::sin(phi));
-    LightSample ray = light;
-    if (sun) {
-      ray.towardsLight = glm::normalize(w + softSize * (d.x * u + d.y * v));
+    glm::vec2 d;
+    if (rectangle) {  // stratified over the square
+      int side = int(std::lround(std::sqrt(double(kSoftShadowRays))));
+      d = glm::vec2((float(k % side) + 0.5f) / float(side), (float(k / side) + 0.5f) / float(side)) * 2.0f - 1.0f;
     } else {
-      glm::vec3 target = p + w * light.distance + softSize * (d.x * u + d.y * v);
+      float r = std::sqrt((k + 0.5f) / kSoftShadowRays), phi = golden * float(k);
+      d = r * glm::vec2(std::cos(phi), std::sin(phi));
+    }
+    LightSample ray = light;
+    if (desc.type == SS_LIGHT_SUN) {
+      ray.towardsLight = glm::normalize(w + d.x * a + d.y * b);
+    } else {
+      glm::vec3 target = p + w * light.distance + d.x * a + d.y * b;
       ray.distance = glm::length(target - p);
       ray.towardsLight = (target - p) / ray.distance;
     }
@@ -597,7 +611,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         float nl = glm::dot(ns, ls.towardsLight);
         if (glm::dot(n, ls.towardsLight) <= 0.0f || nl <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
         float soft = softSizes[li];
-        float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, soft, lights[li].type == SS_LIGHT_SUN)
+        float visibility = soft > 0.0f ? softVisibility(rays, p, ng, ls, lights[li], soft)
                                        : visible(rays, p, ng, ls) ? 1.0f : 0.0f;
         if (visibility <= 0.0f) continue;
         ls.irradiance *= visibility;
