@@ -91,6 +91,10 @@ class MaterialDesc(ctypes.Structure):
                 ("normal_strength", ctypes.c_float)]
 
 
+class EnvironmentDesc(ctypes.Structure):
+    _fields_ = [("image", ctypes.c_void_p), ("rotation", ctypes.c_float * 9), ("strength", ctypes.c_float)]
+
+
 class ImageDesc(ctypes.Structure):
     _fields_ = [("width", ctypes.c_uint32), ("height", ctypes.c_uint32), ("rgb", ctypes.POINTER(ctypes.c_float))]
 
@@ -150,7 +154,7 @@ class ProfileInfo(ctypes.Structure):
 
 # Each Structure and its struct in subsplat.h, checked at load (check_layout).
 LAYOUTS = {MeshDesc: "SsMeshDesc", ResourceCounts: "SsResourceCounts", MaterialDesc: "SsMaterialDesc",
-           TextureDesc: "SsTextureDesc", ImageDesc: "SsImageDesc", ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
+           TextureDesc: "SsTextureDesc", ImageDesc: "SsImageDesc", EnvironmentDesc: "SsEnvironmentDesc", ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
            CameraDesc: "SsCameraDesc", Settings: "SsSettings", Stats: "SsStats", ProfileInfo: "SsProfileInfo"}
 
 _libs = None
@@ -268,6 +272,7 @@ def _declare(lib):
         "ssReleaseProfileSet": [handle],
         "ssNewImage": [ctypes.POINTER(ImageDesc), ctypes.POINTER(handle)],
         "ssReleaseImage": [handle],
+        "ssSetEnvironment": [handle, ctypes.POINTER(EnvironmentDesc)],
         "ssGetResourceCounts": [ctypes.POINTER(ResourceCounts)],
         "ssSetMemoryBudget": [ctypes.c_uint64],
         "ssGetMemoryUsage": [ctypes.POINTER(ctypes.c_uint64), ctypes.POINTER(ctypes.c_uint64)],
@@ -604,6 +609,15 @@ class Context:
     def set_camera(self, camera):
         """camera: export.data.Camera."""
         _check(library().ssSetCamera(self._handle, ctypes.byref(_camera_desc(camera))))
+
+    def set_environment(self, environment):
+        """The background image (export.data.Environment), or None: the settings' colour."""
+        desc = EnvironmentDesc()
+        if environment is not None:
+            desc.image = environment.image.handle
+            desc.rotation = (ctypes.c_float * 9)(*environment.rotation)
+            desc.strength = environment.strength
+        _check(library().ssSetEnvironment(self._handle, ctypes.byref(desc)))  # the context keeps the image
 
     def set_settings(self, settings):
         """settings: export.data.Settings."""

@@ -10,6 +10,21 @@ uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform int orthographic;
 uniform vec4 background;
+// The environment where no object is (material/texture.h: Environment::radiance): an equirectangular
+// map (repeating in u, clamped in v), looked up along the pixel's ray.
+uniform int environment;
+layout(binding = UNIT_ENVIRONMENT) uniform sampler2D environmentMap;
+uniform mat4 clipToWorld;
+uniform vec2 frameSize;
+uniform mat3 environmentRotation;
+uniform float environmentStrength;
+vec3 environmentRadiance() {
+  vec2 ndc = gl_FragCoord.xy / frameSize * 2.0 - 1.0;
+  vec4 nearH = clipToWorld * vec4(ndc, -1.0, 1.0), farH = clipToWorld * vec4(ndc, 1.0, 1.0);
+  vec3 d = environmentRotation * (farH.xyz / farH.w - nearH.xyz / nearH.w);
+  vec2 uv = vec2(0.5 - atan(d.y, d.x) / (2.0 * PI), atan(d.z, length(d.xy)) / PI + 0.5);
+  return environmentStrength * textureLod(environmentMap, uv, 0.0).rgb;
+}
 // The world (world_light.h): its radiance above and below the horizon, for its specular
 // reflection, and whether it also lights every surface unshadowed (not drawn as directions).
 uniform vec3 worldAbove;
@@ -32,7 +47,10 @@ layout(location = 0) out vec4 color;
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec4 po = texelFetch(splattingPositionObject, pixel, 0);
-  if (po.w < 0.0) { color = background; return; }
+  if (po.w < 0.0) {
+    color = environment != 0 ? vec4(environmentRadiance(), 1.0) : background;
+    return;
+  }
   vec4 nm = texelFetch(splattingNormalMaterial, pixel, 0);
   int m = int(nm.w);
   if (isHoldout(m)) { color = vec4(0.0); return; }  // a hole in the image, alpha 0

@@ -222,6 +222,10 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsTextureDesc, transform),
     SS_FIELD(SsTextureDesc, extension),
     SS_FIELD(SsTextureDesc, interpolation),
+    SS_STRUCT(SsEnvironmentDesc),
+    SS_FIELD(SsEnvironmentDesc, image),
+    SS_FIELD(SsEnvironmentDesc, rotation),
+    SS_FIELD(SsEnvironmentDesc, strength),
     SS_STRUCT(SsImageDesc),
     SS_FIELD(SsImageDesc, width),
     SS_FIELD(SsImageDesc, height),
@@ -494,6 +498,14 @@ SsStatus ssSetLights(SsContext context, const SsLightDesc* lights, uint32_t coun
 
 SsStatus ssSetCamera(SsContext context, const SsCameraDesc* camera) {
   return guarded("ssSetCamera", [&] { renderer(context).scene().setCamera(deref(camera, "camera")); });
+}
+
+SsStatus ssSetEnvironment(SsContext context, const SsEnvironmentDesc* environment) {
+  return guarded("ssSetEnvironment", [&] {
+    const SsEnvironmentDesc& e = deref(environment, "environment");
+    subsplat::Scene& scene = renderer(context).scene();
+    scene.setEnvironment(e, textureImage(e.image, "environment image"));
+  });
 }
 
 SsStatus ssSetSettings(SsContext context, const SsSettings* settings) {

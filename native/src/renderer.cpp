@@ -95,6 +95,32 @@ void Renderer::uploadMaterials() {
   materialTables_.update(scene_, settings_.epsilon);
 }
 
+EnvironmentInputs Renderer::uploadEnvironment() {
+  const Environment& environment = scene_.environment();
+  if (uploadedEnvironment_ != scene_.environmentVersion()) {
+    environmentTexture_.reset();
+    if (environment) {
+      const TextureImage& image = *environment.image;
+      if (image.width() > maxTextureSize_ || image.height() > maxTextureSize_)
+        fail(SS_LIMIT_EXCEEDED, "the environment image (" + std::to_string(image.width()) + " x " +
+                                    std::to_string(image.height()) + ") exceeds this GPU's texture limit of " +
+                                    std::to_string(maxTextureSize_));
+      gl::Purpose purpose("the environment image (" + std::to_string(image.width()) + " x " +
+                          std::to_string(image.height()) + " texels)");
+      environmentTexture_ = gl::makeTexture2D(GL_RGBA16F, image.width(), image.height(), GL_LINEAR);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+      glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.width(), image.height(), GL_RGB, GL_FLOAT,
+                      &image.texels().front().x);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      gl::checkErrors("environment upload");
+    }
+    uploadedEnvironment_ = scene_.environmentVersion();
+  }
+  return {environment ? environmentTexture_.id() : 0u, environment.rotation, environment.strength};
+}
+
 void Renderer::countCoverage(int width, int height, const float* rgba) {
   size_t pixels = size_t(width) * height;
   for (size_t i = 0; i < pixels; ++i) {
@@ -142,6 +168,7 @@ void Renderer::render(int width, int height, float* rgba) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 
   uploadMaterials();
+  const EnvironmentInputs environment = uploadEnvironment();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
   bindTexture(gl::UNIT_TEXTURE_TEXELS, GL_TEXTURE_BUFFER, materialTables_.textureTexels());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
@@ -246,7 +273,7 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
-  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background,
+  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background, environment,
                         lights.worldRadiance, lights.worldBelow, lights.unshadowed, samples > 1 ? weight : 1.0f, true);
   profiler.end();
 
@@ -285,7 +312,8 @@ void Renderer::render(int width, int height, float* rgba) {
     } else {
       exitance = splats_.exitance();  // no translucent pixel reads it
     }
-    shading_.finalShading(scene_, sampleBuffer_, exitance, kernels.transport, settings_.background, lights.worldRadiance,
+    shading_.finalShading(scene_, sampleBuffer_, exitance, kernels.transport, settings_.background, environment,
+                          lights.worldRadiance,
                           lights.worldBelow, lights.unshadowed, weight, false);
     profiler.end();
   }

@@ -43,6 +43,8 @@ class Renderer {
  private:
   // Resolves the scene's materials and brings the GPU's copy and the tables up to date.
   void uploadMaterials();
+  // The environment's map, uploaded when it changed; the inputs of the final shading.
+  EnvironmentInputs uploadEnvironment();
   // Coverage figures of the frame for SsStats (tests and the UI read them): non-finite
   // pixels of the image, translucent and lit translucent pixels counted on the GPU.
   void countCoverage(int width, int height, const float* rgba);
@@ -63,6 +65,9 @@ class Renderer {
   Coverage coverage_;
   StageProfiler profiler_;  // its queries are reused by every frame of this context
   MaterialTables materialTables_;
+  // The scene's environment on the GPU (RGBA16F), of environment version uploadedEnvironment_.
+  gl::Texture environmentTexture_;
+  uint64_t uploadedEnvironment_ = ~0ull;
   GLint maxTextureSize_ = 0;
   ReferenceRenderer reference_;
   ProgressFunction progress_;

@@ -199,6 +199,8 @@ void Scene::clear() {
   denseIndex_.clear();
   lights_.clear();
   hasCamera_ = false;
+  environment_ = Environment{};
+  ++environmentVersion_;
   ++materialVersion_;
 }
 
@@ -250,6 +252,11 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
               name + ": spot size must be in (0, pi] and blend in [0, 1]");
   }
   lights_ = std::move(list);
+}
+
+void Scene::setEnvironment(const SsEnvironmentDesc& desc, std::shared_ptr<const TextureImage> image) {
+  environment_ = Environment::fromDesc(desc, std::move(image));
+  ++environmentVersion_;
 }
 
 void Scene::setCamera(const SsCameraDesc& camera) {

@@ -95,6 +95,11 @@ class Scene {
   void clear();
   void setLights(const SsLightDesc* lights, uint32_t count);
   void setCamera(const SsCameraDesc& camera);
+  // image: desc.image's (null: no environment).
+  void setEnvironment(const SsEnvironmentDesc& desc, std::shared_ptr<const TextureImage> image);
+  const Environment& environment() const { return environment_; }
+  // Counts the environment's changes (a GPU copy is current while it has the same count).
+  uint64_t environmentVersion() const { return environmentVersion_; }
 
   // At most one; nullptr: none.
   void setMeshObserver(MeshObserver* observer) { observer_ = observer; }
@@ -135,6 +140,8 @@ class Scene {
   std::vector<SsLightDesc> lights_;
   SsCameraDesc camera_{};
   bool hasCamera_ = false;
+  Environment environment_;
+  uint64_t environmentVersion_ = 0;
   uint64_t materialVersion_ = 0, resolvedVersion_ = ~0ull, resolutionCount_ = 0;
   int nextMeshIndex_ = 0;
   MeshObserver* observer_ = nullptr;

@@ -26,7 +26,7 @@ constexpr uint32_t kFormatVersion = 6;
 // formats 1 to 5 have no textures in the material record.
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4;
-enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6 };
+enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6, kEnvironment = 7 };
 constexpr uint32_t kMeshHasUvs = 1;
 
 // The API structs are written as they lie in memory: 4-byte fields only, no
@@ -246,6 +246,27 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
         applySettings(settings);
         break;
       }
+      case kEnvironment: {  // format 6
+        SsEnvironmentDesc desc{};
+        desc.strength = r.get<float>();
+        for (float& v : desc.rotation) v = r.get<float>();
+        SsImageDesc image{};
+        image.width = r.get<uint32_t>();
+        image.height = r.get<uint32_t>();
+        require(image.width >= 1 && image.height >= 1 && image.width <= TextureImage::kMaxSide &&
+                    image.height <= TextureImage::kMaxSide,
+                r.what() + ": environment size out of range");
+        std::vector<float> texels = r.getArray<float>(3 * size_t(image.width) * size_t(image.height));
+        image.rgb = texels.data();
+        std::shared_ptr<const TextureImage> made;
+        try {
+          made = std::make_shared<const TextureImage>(image);
+        } catch (const Error& e) {
+          fail(e.status(), r.what() + ": " + e.what());
+        }
+        scene.setEnvironment(desc, std::move(made));
+        break;
+      }
       case kFrame:
         frame.width = r.get<int32_t>();
         frame.height = r.get<int32_t>();
@@ -318,6 +339,15 @@ void saveScene(const Scene& scene, const SsSettings& settings, FrameSize frame, 
     w.putArray(scene.lights());
   });
   if (scene.hasCamera()) w.record(kCamera, [&] { w.put(scene.camera()); });
+  if (const Environment& environment = scene.environment(); environment)
+    w.record(kEnvironment, [&] {
+      w.put(environment.strength);
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) w.put(environment.rotation[c][r]);
+      w.put(uint32_t(environment.image->width()));
+      w.put(uint32_t(environment.image->height()));
+      w.putArray(flatten(environment.image->texels()));
+    });
   w.record(kSettings, [&] { w.put(settings); });
   if (frame.width > 0)
     w.record(kFrame, [&] {

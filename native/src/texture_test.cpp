@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -70,6 +71,19 @@ TEST(TextureSample, NormalMapsTiltInTheUvFrame) {
   triangleTangents(corners, uvs, tangent, bitangent);
   EXPECT_LT(glm::distance(tangent, glm::vec3(2, 0, 0)), 1e-6f);
   EXPECT_LT(glm::distance(bitangent, glm::vec3(0, 3, 0)), 1e-6f);
+}
+
+// Blender's equirectangular convention (Cycles' direction_to_equirectangular): +x is the map's
+// middle, +y a quarter to the left of it, +z its top row.
+TEST(EnvironmentMap, UvFollowsBlendersConvention) {
+  Environment e;
+  EXPECT_NEAR(e.uv({1, 0, 0}).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(e.uv({0, 1, 0}).x, 0.25f, 1e-6f);
+  EXPECT_NEAR(e.uv({0, -1, 0}).x, 0.75f, 1e-6f);
+  EXPECT_NEAR(e.uv({0, 0, 1}).y, 1.0f, 1e-6f);
+  EXPECT_NEAR(e.uv({1, 0, 0}).y, 0.5f, 1e-6f);
+  e.rotation = glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0, 0, 1)));
+  EXPECT_NEAR(e.uv({0, -1, 0}).x, 0.5f, 1e-6f);  // -y turned onto +x
 }
 
 TEST(TextureApi, ImagesAreValidatedAndReleasedOnce) {
@@ -275,13 +289,64 @@ TEST_F(Textures, MaterialsKeepTheirImagesAndRefuseBadOnes) {
   EXPECT_EQ(ssSetMaterial(context, 1, &material), SS_OK) << ssGetLastError();
 }
 
-// A scene file keeps the textures: the replay draws the same image.
+// The environment is the background where no object is, along each pixel's ray, in FULL as in
+// REFERENCE (and the background colour without one); strength scales it; a bad one is refused.
+TEST_F(Textures, EnvironmentIsTheBackground) {
+  setQuad(testing::greyMaterial(0.5f));
+  SsMeshDesc small = quad.desc(0.3f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &small), SS_OK);
+  SsCameraDesc camera{};  // perspective, looking along +x and a little down, 70 degrees wide
+  glm::mat4 view = glm::lookAt(glm::vec3(-2, 0, 0.8f), glm::vec3(0, 0, 0), glm::vec3(0, 0, 1));
+  glm::mat4 projection = glm::perspective(glm::radians(70.0f), 1.0f, 0.1f, 100.0f);
+  std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
+  std::memcpy(camera.view_to_clip, glm::value_ptr(projection), sizeof camera.view_to_clip);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  std::vector<float> rgb(32 * 16 * 3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int c = 0; c < 3; ++c)
+        rgb[size_t((y * 32 + x) * 3 + c)] = 0.2f + 0.15f * float(c) + 0.3f * float(y) / 15.0f +
+                                            0.2f * std::sin(float(x) / 32.0f * 6.2831853f);
+  SsEnvironmentDesc environment{};
+  environment.image = image(32, 16, rgb);
+  environment.strength = 2.0f;
+  glm::mat3 turn(glm::rotate(glm::mat4(1.0f), glm::radians(30.0f), glm::vec3(0, 0, 1)));
+  std::memcpy(environment.rotation, glm::value_ptr(turn), sizeof environment.rotation);
+  ASSERT_EQ(ssSetEnvironment(context, &environment), SS_OK) << ssGetLastError();
+  std::vector<float> full = render(SS_METHOD_FULL), reference = render(SS_METHOD_REFERENCE);
+  double difference = meanRelativeDifference(full, reference);
+  std::printf("environment background: FULL against REFERENCE, mean relative difference %.5f\n", difference);
+  if (difference > 0.005) testing::writeComparison("texture_environment", full, reference, kSize, kSize);
+  EXPECT_LT(difference, 0.005);
+  EXPECT_FLOAT_EQ(full[3], 1.0f);  // a background pixel (bottom left): opaque
+  environment.strength = 1.0f;
+  ASSERT_EQ(ssSetEnvironment(context, &environment), SS_OK);
+  std::vector<float> half = render(SS_METHOD_FULL);
+  EXPECT_NEAR(half[size_t(4 * (kSize * (kSize - 1)))] / full[size_t(4 * (kSize * (kSize - 1)))], 0.5f, 1e-3f);
+  environment.strength = -1.0f;
+  EXPECT_EQ(ssSetEnvironment(context, &environment), SS_INVALID_ARGUMENT);
+  environment.strength = 1.0f;
+  environment.rotation[4] = NAN;
+  EXPECT_EQ(ssSetEnvironment(context, &environment), SS_INVALID_ARGUMENT);
+  EXPECT_EQ(ssSetEnvironment(context, nullptr), SS_INVALID_ARGUMENT);
+  SsEnvironmentDesc none{};
+  ASSERT_EQ(ssSetEnvironment(context, &none), SS_OK);
+  EXPECT_FLOAT_EQ(render(SS_METHOD_FULL)[3], 0.0f);  // the default background: transparent
+}
+
+// A scene file keeps the textures and the environment: the replay draws the same image.
 TEST_F(Textures, SceneFilesKeepTheTextures) {
   SsMaterialDesc material = testing::skinMaterial(40.0f);
   material.color_texture.image = checker();
   material.normal_texture.image = image(1, 1, {0.6f, 0.5f, 0.95f});
   material.normal_strength = 0.7f;
   setQuad(material, 20.0f);
+  SsEnvironmentDesc environment{};
+  environment.image = checker();
+  environment.strength = 3.0f;
+  ASSERT_EQ(ssSetEnvironment(context, &environment), SS_OK) << ssGetLastError();
+  SsMeshDesc small = quad.desc(0.5f, 0);  // the environment shows around it
+  ASSERT_EQ(ssSetMesh(context, 0, &small), SS_OK);
   std::vector<float> before = render(SS_METHOD_FULL);
   const std::string path = ::testing::TempDir() + "textures.ssscene";
   ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();

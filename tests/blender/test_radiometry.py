@@ -192,5 +192,49 @@ class RadiometryMatchesCycles(unittest.TestCase):
         self.assertAlmostEqual(ours / expected, 1.0, delta=0.02, msg=f"SubSplat {ours:.5f}, albedo x mean {expected:.5f}")
 
 
+    def test_environment_is_the_background(self):
+        """Issue 20: an equirectangular Environment Texture, turned by a Mapping node (30 degrees about
+        z) and at strength 2, is the background where the camera sees no object, as Cycles draws it:
+        every pixel of a 96 x 64 view across the horizon within 1 % of Cycles'."""
+        import bpy
+        import numpy as np
+        scene = helpers.empty_scene(96, 64)
+        width, height = 64, 32
+        image = bpy.data.images.new("Gradient", width, height, float_buffer=True)
+        pixels = np.ones((height, width, 4), dtype=np.float32)
+        pixels[..., 0] = ((np.arange(width) + 0.5) / width)[None, :]
+        pixels[..., 1] = ((np.arange(height) + 0.5) / height)[:, None]
+        pixels[..., 2] = 0.2
+        image.pixels.foreach_set(pixels.ravel())
+        scene.world.use_nodes = True
+        tree = scene.world.node_tree
+        texture = tree.nodes.new("ShaderNodeTexEnvironment")
+        texture.image = image
+        mapping = tree.nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(30.0))
+        coordinates = tree.nodes.new("ShaderNodeTexCoord")
+        tree.links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
+        tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+        tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+        tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        camera.data.lens = 20.0
+        camera.rotation_euler = (math.radians(80), 0.0, math.radians(-60))
+        scene.collection.objects.link(camera)
+        scene.camera = camera
+        images = {}
+        for engine in ("SUBSPLAT", "CYCLES"):
+            scene.render.engine = engine
+            scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 16, False
+            scene.render.filter_size = 0.01  # the pixel centre, as SubSplat's one sample
+            images[engine] = helpers.render(scene, f"radiometry_environment_background_{engine.lower()}")[..., :3]
+        relative = np.abs(images["SUBSPLAT"] - images["CYCLES"]) / np.maximum(images["CYCLES"], 1e-3)
+        print(f"radiometry environment background: largest difference {relative.max():.4f}, "
+              f"mean {relative.mean():.5f}")
+        if relative.max() > 0.01:
+            helpers.write_difference("radiometry_environment_background", images["SUBSPLAT"], images["CYCLES"])
+        self.assertLess(relative.max(), 0.01)
+
+
 if __name__ == "__main__":
     helpers.run_tests()

@@ -69,6 +69,7 @@ def render_image(engine, depsgraph, preview):
         for object_id, mesh in enumerate(frame.meshes):
             context.set_mesh(object_id, mesh)
         context.set_lights(frame.lights)
+        context.set_environment(frame.environment)
         context.set_camera(frame.camera)
         context.set_settings(render_settings)
 

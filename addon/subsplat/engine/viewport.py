@@ -20,7 +20,7 @@ from gpu_extras.presets import draw_texture_2d
 import numpy as np
 
 from .. import diagnostics, export, native, preferences
-from ..export import camera, data, lights, mesh, settings
+from ..export import background, camera, data, lights, mesh, settings
 
 # The method a viewport uses for each setting: REFERENCE takes minutes, so the viewport shows FULL.
 VIEWPORT_METHOD = {"REFERENCE": "FULL"}
@@ -68,7 +68,9 @@ class ViewportSession:
         self.pending_removals = set()
         self.pending_lights = None
         self.pending_settings = None
-        self.world = None  # the world light last sent (export.data.Light), or None
+        self.world = None  # the world's lights last sent (export.data.Light: WORLD, its map's suns)
+        self.environment = None  # the background map last sent (export.data.Environment), or None
+        self.pending_environment = False  # whether self.environment waits to be sent
         # Anti-aliasing (docs/ANTIALIASING.md): the samples of the image shown, summed, and what
         # they were rendered for (size and view); a change of either, or anything sent, restarts it.
         self.accumulated = None
@@ -160,12 +162,15 @@ class ViewportSession:
                 self._upload(entry)
         for key in set(self.objects) - seen:
             self._remove(key)
-        world = settings.world_light(depsgraph.scene, [])  # the world, or its world_directions, edited
+        world = settings.world_lights(depsgraph.scene, [])  # the world, or its world_directions, edited
         if world != self.world:
             self.world, lights_changed = world, True
+        environment = background.environment(depsgraph.scene, [])
+        if environment != self.environment:
+            self.environment, self.pending_environment = environment, True
         if lights_changed:
-            settings.world_light(depsgraph.scene, self.frame.warnings)
-            self.pending_lights = light_descs + ([world] if world is not None else [])
+            settings.world_lights(depsgraph.scene, self.frame.warnings)
+            self.pending_lights = light_descs + world
             self.counters.light_exports += 1
 
         scene = depsgraph.scene
@@ -201,7 +206,8 @@ class ViewportSession:
         """Sends what view_update() found changed; the viewport's GL context is current. True when
         anything was sent (the image shown is then out of date)."""
         sent = bool(self.context is None or self.pending_materials or self.pending_removals or self.pending_meshes
-                    or self.pending_lights is not None or self.pending_settings is not None)
+                    or self.pending_lights is not None or self.pending_settings is not None
+                    or self.pending_environment)
         if self.context is None:
             budget_warning = preferences.memory_budget_warning()
             if budget_warning:
@@ -224,6 +230,9 @@ class ViewportSession:
         if self.pending_lights is not None:
             self.context.set_lights(self.pending_lights)
             self.pending_lights = None
+        if self.pending_environment:
+            self.context.set_environment(self.environment)
+            self.pending_environment = False
         if self.pending_settings is not None:
             self.context.set_settings(self.pending_settings)
             self.context_first_sample = self.pending_settings.first_sample

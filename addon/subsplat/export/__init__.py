@@ -1,7 +1,7 @@
 """Depsgraph to plain data (export.data): the evaluated meshes, materials, lights, camera and
 settings of one frame, one module each. Nothing here calls the library except to make the profile
 sets of heterogeneous materials (materials.py); native.py turns the data into the C API's structs."""
-from . import camera, data, lights, materials, mesh, settings
+from . import background, camera, data, lights, materials, mesh, settings
 from .data import ExportError, Material
 
 HOLDOUT_KEY = "\0holdout"  # the registry's key of the material a holdout object's triangles get
@@ -17,6 +17,7 @@ class Frame:
         self.lights = []      # data.Light
         self.warnings = []
         self.camera = None    # data.Camera
+        self.environment = None  # data.Environment: the world's map as the background, or None
         # World positions are sent relative to this point (a final render's camera, the viewport's
         # camera when its session began): single-precision floats then keep their precision in a
         # scene far from Blender's origin.
@@ -78,9 +79,8 @@ def export_frame(depsgraph, width, height):
     frame.origin = camera.camera_origin(scene, depsgraph)
     frame.camera = camera.camera_data(scene, depsgraph, width, height, frame.origin)
     frame.warnings.extend(camera.feature_warnings(scene))
-    world = settings.world_light(scene, frame.warnings)
-    if world is not None:
-        frame.lights.append(world)
+    frame.lights.extend(settings.world_lights(scene, frame.warnings))
+    frame.environment = background.environment(scene, frame.warnings)
     for instance in depsgraph.object_instances:
         obj = instance.object
         if obj.type == "LIGHT":

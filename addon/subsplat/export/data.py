@@ -39,6 +39,15 @@ class Texture:
 
 
 @dataclass
+class Environment:
+    """SsEnvironmentDesc: the background where no object is, an equirectangular image (a native.Image)
+    looked up along rotation x the world direction (9 floats, column-major), times strength."""
+    image: Any
+    rotation: Tuple[float, ...] = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    strength: float = 1.0
+
+
+@dataclass
 class Material:
     """SsMaterialDesc. kind: "OPAQUE", "DIPOLE", "SUBEDIT" (which has profiles, a native.ProfileSet) or
     "HOLDOUT" (a hole in the image);

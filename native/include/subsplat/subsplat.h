@@ -355,6 +355,18 @@ SS_API SsStatus ssSetSettings(SsContext context, const SsSettings* settings);
 /* The settings in effect, defaults filled in (0 fields replaced by their values). */
 SS_API SsStatus ssGetSettings(SsContext context, SsSettings* out);
 
+/* The environment drawn where the camera sees no object (docs/WORLD.md): an equirectangular image
+ * in Blender's convention (a world direction, turned by `rotation`, reads the image at
+ * u = 0.5 - atan2(d.y, d.x) / 2 pi, v = atan2(d.z, hypot(d.x, d.y)) / pi + 0.5, bilinear, repeating
+ * in u), times strength, alpha 1. It lights nothing itself (send its light as lights); image NULL:
+ * none, the settings' background colour. The context keeps its own reference to the image. */
+typedef struct SsEnvironmentDesc {
+  SsImage image;
+  float rotation[9];  /* column-major 3x3 applied to world directions before the look-up; all 0: identity */
+  float strength;     /* in [0, 1e6] */
+} SsEnvironmentDesc;
+SS_API SsStatus ssSetEnvironment(SsContext context, const SsEnvironmentDesc* environment);
+
 /* Renders width x height and writes linear RGBA floats, bottom row first. */
 SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);
 SS_API SsStatus ssGetStats(SsContext context, SsStats* out);

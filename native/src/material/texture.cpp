@@ -80,6 +80,42 @@ glm::vec3 Texture::sample(glm::vec2 uv) const {
   return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
 }
 
+Environment Environment::fromDesc(const SsEnvironmentDesc& desc, std::shared_ptr<const TextureImage> image) {
+  for (float v : desc.rotation)
+    require(std::isfinite(v) && std::abs(v) <= 1e3f, "environment rotation values must be finite and within 1e3");
+  require(std::isfinite(desc.strength) && desc.strength >= 0.0f && desc.strength <= 1e6f,
+          "environment strength must be in [0, 1e6], got " + std::to_string(desc.strength));
+  Environment e;
+  e.image = std::move(image);
+  bool zero = true;
+  for (float v : desc.rotation) zero = zero && v == 0.0f;
+  if (!zero) e.rotation = glm::mat3(desc.rotation[0], desc.rotation[1], desc.rotation[2], desc.rotation[3],
+                                    desc.rotation[4], desc.rotation[5], desc.rotation[6], desc.rotation[7],
+                                    desc.rotation[8]);
+  e.strength = desc.strength;
+  return e;
+}
+
+glm::vec2 Environment::uv(const glm::vec3& direction) const {
+  glm::vec3 d = rotation * direction;
+  return {0.5f - std::atan2(d.y, d.x) / (2.0f * float(M_PI)),
+          std::atan2(d.z, std::hypot(d.x, d.y)) / float(M_PI) + 0.5f};
+}
+
+glm::vec3 Environment::radiance(const glm::vec3& direction) const {
+  if (!image) return glm::vec3(0.0f);
+  glm::vec2 at = uv(direction);
+  const int w = image->width(), h = image->height();
+  float x = at.x * float(w) - 0.5f, y = at.y * float(h) - 0.5f;
+  int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  float fx = x - float(x0), fy = y - float(y0);
+  auto texel = [&](int i, int j) {
+    return image->texel(((i % w) + w) % w, std::min(std::max(j, 0), h - 1));
+  };
+  return strength * glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), fx),
+                             glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), fx), fy);
+}
+
 glm::vec3 perturbedNormal(const glm::vec3& rgb, float strength, const glm::vec3& normal, const glm::vec3& tangent,
                           const glm::vec3& bitangent) {
   if (glm::dot(tangent, tangent) == 0.0f) return normal;

@@ -45,6 +45,22 @@ struct Texture {
   glm::vec3 sample(glm::vec2 uv) const;
 };
 
+// The environment drawn where no object is (SsEnvironmentDesc): an equirectangular image, Blender's
+// convention, turned by `rotation`, times `strength`. The shaders repeat radiance()
+// (final_shading.frag: environmentRadiance).
+struct Environment {
+  std::shared_ptr<const TextureImage> image;  // null: none
+  glm::mat3 rotation{1.0f};
+  float strength = 1.0f;
+  explicit operator bool() const { return bool(image); }
+  // Validates the desc's fields other than its image.
+  static Environment fromDesc(const SsEnvironmentDesc& desc, std::shared_ptr<const TextureImage> image);
+  // The image's (u, v) for a world direction (not necessarily unit).
+  glm::vec2 uv(const glm::vec3& direction) const;
+  // Radiance along a world direction: bilinear, repeating in u and clamped in v.
+  glm::vec3 radiance(const glm::vec3& direction) const;
+};
+
 // Checks a texture description's fields other than its image: a finite transform and known modes.
 void validateTexture(const SsTextureDesc& desc, const char* what);
 

@@ -68,8 +68,9 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
 }
 
 void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
-                           GLuint transportTables, const float background[4], const glm::vec3& worldAbove,
-                           const glm::vec3& worldBelow, bool worldUnshadowed, float weight, bool first) {
+                           GLuint transportTables, const float background[4], const EnvironmentInputs& environment,
+                           const glm::vec3& worldAbove, const glm::vec3& worldBelow, bool worldUnshadowed,
+                           float weight, bool first) {
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   bool accumulate = weight != 1.0f;
@@ -87,6 +88,16 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
   glUniform4fv(uniform(p, "background"), 1, background);
+  glUniform1i(uniform(p, "environment"), environment.texture != 0 ? 1 : 0);
+  if (environment.texture != 0) {
+    const SsCameraDesc& camera = scene.camera();
+    glm::mat4 clipToWorld = glm::inverse(glm::make_mat4(camera.view_to_clip) * glm::make_mat4(camera.world_to_view));
+    glUniformMatrix4fv(uniform(p, "clipToWorld"), 1, GL_FALSE, glm::value_ptr(clipToWorld));
+    glUniform2f(uniform(p, "frameSize"), float(width_), float(height_));
+    glUniformMatrix3fv(uniform(p, "environmentRotation"), 1, GL_FALSE, glm::value_ptr(environment.rotation));
+    glUniform1f(uniform(p, "environmentStrength"), environment.strength);
+    bindTexture(gl::UNIT_ENVIRONMENT, GL_TEXTURE_2D, environment.texture);
+  }
   glUniform3fv(uniform(p, "worldAbove"), 1, &worldAbove.x);
   glUniform3fv(uniform(p, "worldBelow"), 1, &worldBelow.x);
   glUniform1i(uniform(p, "worldUnshadowed"), worldUnshadowed ? 1 : 0);

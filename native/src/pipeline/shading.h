@@ -11,6 +11,13 @@
 
 namespace subsplat {
 
+// The environment drawn where no object is (material/texture.h: Environment), on the GPU.
+struct EnvironmentInputs {
+  GLuint texture = 0;  // 0: none (the background colour)
+  glm::mat3 rotation{1.0f};
+  float strength = 0.0f;
+};
+
 class Shading {
  public:
   void resize(int width, int height);
@@ -20,14 +27,14 @@ class Shading {
   // MaterialTables::transport().
   void directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
                       const SplattingBuffer& splatting, GLuint transportTables);
-  // Eq. 7 (with the TABULATED model's exit factor) and the background into `target` (RGBA32F,
-  // width x height).
+  // Eq. 7 (with the TABULATED model's exit factor) and the background (the environment where there
+  // is one, else the colour) into `target` (RGBA32F, width x height).
   // world: the world's radiance above and below the horizon, and whether it is drawn unshadowed
   // (world_light.h: RenderLights). Anti-aliasing: the frame's image is the samples' mean; each
   // sample adds `weight` times its own (weight 1: written alone), and `first` clears the target.
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
-                    const float background[4], const glm::vec3& worldAbove, const glm::vec3& worldBelow,
-                    bool worldUnshadowed, float weight = 1.0f, bool first = true);
+                    const float background[4], const EnvironmentInputs& environment, const glm::vec3& worldAbove,
+                    const glm::vec3& worldBelow, bool worldUnshadowed, float weight = 1.0f, bool first = true);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:

@@ -572,7 +572,8 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       glm::vec3 direction = farP - nearP;
       float length = glm::length(direction);
       Hit hit = length > 0.0f ? rays.intersect(nearP, direction / length, 0.0f, length) : Hit{};
-      if (!hit.valid()) {
+      if (!hit.valid()) {  // the environment along the ray, else the background colour
+        if (scene.environment()) return Shaded{glm::vec4(scene.environment().radiance(direction), 1.0f), glm::vec4(0.0f)};
         return Shaded{options.background, glm::vec4(0.0f)};
       }
       const WorldMesh& m = meshes[size_t(hit.mesh)];
