@@ -124,6 +124,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (in.ConsumeBool()) floats(in, camera.view_to_clip, 16);
   camera.orthographic = in.ConsumeIntegralInRange<int32_t>(0, 1);
   ssSetCamera(context, &camera);
+  if (in.ConsumeBool()) {  // an environment as the background: the image, or none; any rotation and strength
+    SsEnvironmentDesc environment{};
+    environment.image = in.ConsumeBool() ? image : nullptr;
+    if (in.ConsumeBool()) floats(in, environment.rotation, 9);
+    floats(in, &environment.strength, 1);
+    ssSetEnvironment(context, &environment);
+  }
   SsSettings settings{};
   ssGetSettings(context, &settings);
   // Expensive but valid settings only cost time: kept small so that an input runs in milliseconds.
