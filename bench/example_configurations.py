@@ -1,4 +1,4 @@
-"""What bench/world.py, bench/lights.py and bench/antialiasing.py share: examples rendered with FULL at their own
+"""What bench/world.py, bench/lights.py, bench/antialiasing.py and bench/textures.py share: examples rendered with FULL at their own
 settings under several configurations, in one run (so that they compare as ratios), each the median
 frame time of some renders, with the library's light views and fragment invocations, printed as a
 table and written as JSON."""
