@@ -78,16 +78,8 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
     exitFramebuffer_ = gl::makeFramebuffer({exitDepth_.id()}, exitZ_.id());
   }
   // Where the light leaves: the nearest surface facing away from it.
-  glBindFramebuffer(GL_FRAMEBUFFER, exitFramebuffer_.id());
-  glViewport(0, 0, resolution_, resolution_);
-  const float none[4] = {1e30f, -2.0f, 0.0f, 0.0f};
-  glClearBufferfv(GL_COLOR, 0, none);
-  glDepthMask(GL_TRUE);
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
   GLuint e = exitProgram_.id();
-  glUseProgram(e);
+  beginMeshPass(exitFramebuffer_.id(), resolution_, resolution_, {glm::vec4(1e30f, -2.0f, 0.0f, 0.0f)}, e);
   setLightUniforms(e, view);
   drawMeshes(scene, gpu, e, view.viewProj);
   glDisable(GL_DEPTH_TEST);
@@ -109,20 +101,12 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
 }
 
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, resolution_, resolution_);
-  const float empty[4] = {0, 0, 0, -2}, zero[4] = {0, 0, 0, 0}, far[4] = {1e30f, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, empty);
-  glClearBufferfv(GL_COLOR, 1, zero);
-  glClearBufferfv(GL_COLOR, 2, empty);
-  glClearBufferfv(GL_COLOR, 3, far);
-  if (profileSplits_) glClearBufferfv(GL_COLOR, 4, zero);
-  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
   GLuint p = program_.id();
-  glUseProgram(p);
+  if (profileSplits_)
+    beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far, zero}, p);
+  else
+    beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far}, p);
   setLightUniforms(p, view);
   glUniform1i(uniform(p, "resolution"), resolution_);
   glUniform1f(uniform(p, "orthoTexelArea"), view.orthoTexelArea);

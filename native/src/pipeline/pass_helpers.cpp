@@ -63,6 +63,18 @@ void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const g
   glBindVertexArray(0);
 }
 
+void beginMeshPass(GLuint framebuffer, int width, int height, std::initializer_list<glm::vec4> clears, GLuint program) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
+  int attachment = 0;
+  for (const glm::vec4& value : clears) glClearBufferfv(GL_COLOR, attachment++, glm::value_ptr(value));
+  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glUseProgram(program);
+}
+
 void setCameraUniforms(GLuint program, const SsCameraDesc& camera) {
   glm::vec3 position = cameraPosition(camera), forward = cameraForward(camera);
   glUniform3fv(uniform(program, "cameraPosition"), 1, glm::value_ptr(position));

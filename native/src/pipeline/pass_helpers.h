@@ -2,6 +2,8 @@
 // texture binding by the binding table, and drawing the scene's meshes.
 #pragma once
 
+#include <initializer_list>
+
 #include <glm/glm.hpp>
 
 #include "gl/gl.h"
@@ -21,6 +23,10 @@ void bindTexture(int unit, GLenum target, GLuint texture);
 
 // Draws every mesh of the scene with `program` (mesh.vert) into the bound target.
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj);
+// The start of a pass that draws the meshes into `framebuffer` (width x height): colour attachment i
+// cleared to clears[i], the depth buffer cleared, the depth test (less) on; program in use. The pass
+// ends with glDisable(GL_DEPTH_TEST).
+void beginMeshPass(GLuint framebuffer, int width, int height, std::initializer_list<glm::vec4> clears, GLuint program);
 // cameraPosition, cameraForward and orthographic as uniforms.
 void setCameraUniforms(GLuint program, const SsCameraDesc& camera);
 // The TABULATED model's tables (common.glsl: transportTables, transportGrid) for a program that

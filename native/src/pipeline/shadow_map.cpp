@@ -21,16 +21,8 @@ void ShadowMap::resize(int resolution) {
 }
 
 void ShadowMap::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, resolution_, resolution_);
-  const float far[4] = {1e30f, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, far);
-  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
   GLuint p = program_.id();
-  glUseProgram(p);
+  beginMeshPass(framebuffer_.id(), resolution_, resolution_, {glm::vec4(1e30f, 0, 0, 0)}, p);
   setLightUniforms(p, view);
   drawMeshes(scene, gpu, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);

@@ -47,20 +47,9 @@ void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
 }
 
 void SplattingBuffer::render(const Scene& scene, const GpuScene& gpu) {
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, width_, height_);
-  const float none[4] = {0, 0, 0, -1};
-  glClearBufferfv(GL_COLOR, 0, none);
-  glClearBufferfv(GL_COLOR, 1, none);
-  const float white[4] = {1, 1, 1, 1}, zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 2, white);
-  glClearBufferfv(GL_COLOR, 3, zero);
-  glDepthMask(GL_TRUE);  // before the clear: a masked depth buffer is not cleared
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  const glm::vec4 none(0, 0, 0, -1);
   GLuint p = program_.id();
-  glUseProgram(p);
+  beginMeshPass(framebuffer_.id(), width_, height_, {none, none, glm::vec4(1.0f), glm::vec4(0.0f)}, p);
   setCameraUniforms(p, scene.camera());
   glm::mat4 viewProj = glm::make_mat4(scene.camera().view_to_clip) *
                        glm::make_mat4(scene.camera().world_to_view);
