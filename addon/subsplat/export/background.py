@@ -3,7 +3,6 @@ ssSetEnvironment; docs/WORLD.md): the map itself where the camera sees no object
 world's Mapping node turns it, times the Background's strength. Its light is the lights' business
 (export/settings.py); this is only what the camera sees of it."""
 import collections
-import math
 
 import numpy as np
 
@@ -38,45 +37,10 @@ def _native_map(world, image):
     return cached[1]
 
 
-def _euler(rotation):
-    """Blender's XYZ Euler rotation matrix (Rz Ry Rx)."""
-    x, y, z = rotation
-    cx, sx, cy, sy, cz, sz = math.cos(x), math.sin(x), math.cos(y), math.sin(y), math.cos(z), math.sin(z)
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
-def _direction_rotation(world, node, warnings):
-    """The 3 x 3 matrix the Environment Texture's vector applies to a world direction: the identity
-    unlinked (Generated coordinates), else a chain of Mapping nodes' rotations (Point and Vector:
-    R; Texture: its inverse) down to a Texture Coordinate's Generated or Object output. None: a set-up
-    that is not read (warned)."""
-    matrix = np.eye(3)
-    source = textures.linked(node.inputs["Vector"])
-    while source is not None:
-        mapping, _ = source
-        if mapping.type == "TEX_COORD" and source[1].name in ("Generated", "Object"):
-            return matrix
-        if mapping.type != "MAPPING" or mapping.vector_type not in ("POINT", "VECTOR", "TEXTURE"):
-            warnings.append(f"world '{world.name}': the Environment Texture's Vector comes from a {mapping.bl_label} "
-                            "node, which SubSplat does not read; the background is drawn unturned")
-            return np.eye(3)
-        rotation = _euler(tuple(mapping.inputs["Rotation"].default_value))
-        scale = tuple(mapping.inputs["Scale"].default_value)
-        if max(scale) - min(scale) > 1e-6 * max(abs(v) for v in scale) or min(scale) <= 0.0:
-            warnings.append(f"world '{world.name}': its Mapping node '{mapping.name}' scales unevenly, which SubSplat "
-                            "does not read for the environment; only its rotation is")
-        matrix = (rotation.T if mapping.vector_type == "TEXTURE" else rotation) @ matrix
-        source = textures.linked(mapping.inputs["Vector"])
-    return matrix
-
-
 def environment(scene, warnings):
     """The world's equirectangular Environment Texture into its Background's Color as the background
     (data.Environment), or None: no world, film transparent, no such texture."""
-    from . import settings  # (settings reads the world's light; this module, what the camera sees)
+    from . import environment as environment_module, settings  # (the world's light; this module: what is seen)
     world = scene.world
     if world is None or scene.render.film_transparent or not getattr(world, "use_nodes", False):
         return None
@@ -94,7 +58,10 @@ def environment(scene, warnings):
     strength = node.inputs["Strength"]
     if textures.linked(strength) is not None:
         return None  # settings.py warns of the linked strength
-    rotation = _direction_rotation(world, texture, warnings)
+    # The Mapping nodes as the light reads them (export/environment.py, which also warns of what it
+    # does not read: said once, there).
+    rotation = environment_module.texture_lookup(texture, f"world '{world.name}'", [])
+    rotation = np.eye(3) if rotation is None else rotation
     return Environment(image=_native_map(world, texture.image),
                        rotation=tuple(float(v) for v in rotation.T.ravel()),  # column-major
                        strength=float(strength.default_value))

@@ -41,3 +41,13 @@ def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
         warnings.append(f"light '{obj.name}': its soft shadows fall on opaque surfaces only; the light entering "
                         "translucent objects is shadowed from its centre (hard)")
     return data
+
+
+def environment_sun(sun, strength):
+    """One of an environment map's suns (export.environment.Sun) at the Background's strength: it
+    shines from the sun's direction, with the irradiance a surface facing it gets, and softens its
+    shadows over its angular diameter (docs/WORLD.md)."""
+    peak = max(max(sun.irradiance), 1e-30)
+    return Light(type="SUN", color=tuple(c / peak for c in sun.irradiance), strength=peak * strength,
+                 position=(0.0, 0.0, 0.0), direction=tuple(-c for c in sun.direction),
+                 soft_size=min(sun.angle, math.pi / 2))

@@ -2,6 +2,7 @@
 import numpy as np
 
 from .. import principled, version
+from . import environment, lights
 from .data import Light, Settings
 
 # The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
@@ -96,11 +97,12 @@ def environment_mean(image):
     return _environment_means[key]
 
 
-def _world_radiance(world, warnings):
+def _world_radiance(world, warnings, textures=None):
     """The world's radiance above the horizon and below it (RGB per unit strength) and its strength,
-    from the Background node its World Output shows (an equirectangular Environment Texture into its
-    colour: the map's two means), or None when it shows none (black, as in Blender); what is not
-    rendered is appended to warnings."""
+    from the Background node its World Output shows (an Environment Texture into its colour: the
+    map's two means), or None when it shows none (black, as in Blender); what is not rendered is
+    appended to warnings. textures: a list that receives the Environment Texture node read, if any
+    (world_lights decomposes its map)."""
     if not version.uses_nodes(world):
         return tuple(world.color), tuple(world.color), 1.0
     node = _world_surface(world, warnings)
@@ -115,10 +117,8 @@ def _world_radiance(world, warnings):
         if socket is colour and source.type == "TEX_ENVIRONMENT" and source.image is not None:
             try:
                 above, below = environment_mean(source.image)
-                warnings.append(f"world '{world.name}': its Environment Texture '{source.image.name}' lights the "
-                                "scene with its mean radiance above the horizon and below it, and is shown as the "
-                                "mean of the two; its directions within each half (a sun, the sky's gradient) are "
-                                "not rendered (docs/WORLD.md)")
+                if textures is not None:
+                    textures.append(source)
                 continue
             except principled.PrincipledError as error:
                 warnings.append(f"world '{world.name}': {error}")
@@ -147,16 +147,47 @@ def _world_surface(world, warnings):
     return source
 
 
-def world_light(scene, warnings):
-    """The world as a Light of type WORLD (its Background colour x strength: the radiance from above
-    the horizon, and from below it), or None when it is black; what it renders otherwise than Blender
-    is appended to warnings. docs/WORLD.md"""
+def world_lights(scene, warnings):
+    """The world as lights (docs/WORLD.md): a Light of type WORLD (its Background colour x strength:
+    the radiance from above the horizon, and from below it), unless it is black; for an
+    equirectangular Environment Texture, suns from the map's brightest regions too, the WORLD light
+    then being the rest of its light (export.environment). What is rendered otherwise than in
+    Blender is appended to warnings."""
     world = scene.world
-    radiance = _world_radiance(world, warnings) if world is not None else None
+    textures = []
+    radiance = _world_radiance(world, warnings, textures) if world is not None else None
     if radiance is None:
-        return None
+        return []
     rgb, below, power = radiance
-    if max(max(rgb), max(below)) * power <= 0.0:
-        return None
-    return Light(type="WORLD", color=rgb, strength=power, position=(0.0, 0.0, 0.0), direction=(0.0, 0.0, -1.0),
-                 world_directions=scene.subsplat.world_directions, world_below=tuple(c * power for c in below))
+    suns = []
+    if textures:
+        texture = textures[0]
+        where = f"world '{world.name}': its Environment Texture '{texture.image.name}'"
+        if texture.projection != "EQUIRECTANGULAR":
+            warnings.append(f"{where} has the {texture.projection.replace('_', ' ').title()} projection, which "
+                            "SubSplat does not read: the image lights the scene with its mean radiance above its "
+                            "middle row and below it, as an equirectangular map's (docs/WORLD.md)")
+        else:
+            lookup = environment.texture_lookup(texture, where, warnings)
+            decomposition = environment.image_decomposition(texture.image, lookup)
+            rgb, below = decomposition.above, decomposition.below
+            if power > 0.0:
+                suns = [lights.environment_sun(sun, power) for sun in decomposition.suns]
+            if suns:
+                warnings.append(f"{where} lights the scene as {len(suns)} sun{'s' if len(suns) > 1 else ''} from "
+                                "its brightest regions (their soft shadows fall on opaque surfaces only) and its "
+                                "remaining light's two hemisphere means (docs/WORLD.md)")
+            else:
+                warnings.append(f"{where} lights the scene with its two hemisphere means: no region of it is bright "
+                                "enough for a sun (docs/WORLD.md)")
+    result = []
+    if max(max(rgb), max(below)) * power > 0.0:
+        result.append(Light(type="WORLD", color=tuple(rgb), strength=power, position=(0.0, 0.0, 0.0),
+                            direction=(0.0, 0.0, -1.0), world_directions=scene.subsplat.world_directions,
+                            world_below=tuple(c * power for c in below)))
+    return result + suns
+
+
+def world_light(scene, warnings):
+    """world_lights' WORLD light, or None when the world is black."""
+    return next((light for light in world_lights(scene, warnings) if light.type == "WORLD"), None)

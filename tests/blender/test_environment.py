@@ -1,0 +1,258 @@
+"""An equirectangular Environment Texture lights the scene as suns from its brightest regions and
+its remaining light's two hemisphere means (docs/WORLD.md, "Environment textures";
+export/environment.py): its light on horizontal surfaces is conserved, a sun in the map casts the
+shadow Cycles casts, a Mapping node turns it, a uniform map is a uniform world. Small renders
+(96 x 96, Cycles 128 samples, no bounces); every render is also written as a PNG to look at."""
+import math
+import os
+import time
+import unittest
+
+import bpy
+import numpy as np
+
+from subsplat_testing import helpers
+
+subsplat = helpers.enable_addon()
+from subsplat.export import environment, settings  # noqa: E402
+
+SIZE = 96             # pixels; the camera sees 4 x 4 units: 24 pixels a unit
+MAP = (128, 256)      # the test maps' rows and columns
+SKY, GROUND = np.array([0.08, 0.1, 0.14]), np.array([0.04, 0.04, 0.04])
+SUN_IRRADIANCE = 3.0  # W/m^2 on a surface facing the map's sun
+SUN_RADIUS = math.radians(4.0)
+SUN = (math.radians(45.0), math.radians(180.0))  # elevation, azimuth: from -x, 45 degrees up
+
+
+def unit(elevation, azimuth):
+    return np.array([math.cos(elevation) * math.cos(azimuth), math.cos(elevation) * math.sin(azimuth),
+                     math.sin(elevation)])
+
+
+def sun_and_sky(rows=MAP[0], columns=MAP[1], sun=SUN, radius=SUN_RADIUS, irradiance=SUN_IRRADIANCE):
+    """A dim sky over a darker ground and a sun disc (rows, columns, 3), in Cycles' equirectangular
+    convention (export.environment.centres)."""
+    d = environment.centres((np.arange(rows + 1) / rows - 0.5) * np.pi, np.arange(columns + 1) / columns)
+    rgb = np.where((d[..., 2] >= 0.0)[..., None], SKY, GROUND)
+    rgb[d @ unit(*sun) > math.cos(radius)] = irradiance / (2.0 * math.pi * (1.0 - math.cos(radius)))
+    return rgb
+
+
+def world_map(scene, rgb, name="Map", z_rotation=None):
+    """The world's Background colour from an Environment Texture of `rgb`, through a Mapping node
+    turning it about z when z_rotation is given."""
+    image = bpy.data.images.new(name, rgb.shape[1], rgb.shape[0], float_buffer=True)
+    image.pixels.foreach_set(np.concatenate([rgb, np.ones_like(rgb[..., :1])], axis=-1).astype(np.float32).ravel())
+    world = scene.world
+    world.use_nodes = True
+    tree = world.node_tree
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = image
+    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    if z_rotation is not None:
+        mapping = tree.nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = (0.0, 0.0, z_rotation)
+        coordinates = tree.nodes.new("ShaderNodeTexCoord")
+        tree.links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
+        tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    return texture
+
+
+def lambertian(name, grey):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (grey, grey, grey, 1.0)
+    bsdf.inputs[subsplat.version.PRINCIPLED_SPECULAR].default_value = 0.0
+    bsdf.inputs["Roughness"].default_value = 1.0
+    return material
+
+
+def plane_and_box(rgb, z_rotation=None):
+    """A grey plane with a 1 x 1 x 1 box at the origin under the map, seen from above (the camera
+    centred on (0.5, 0): the view spans x -1.5..2.5, y -2..2)."""
+    scene = helpers.empty_scene(SIZE, SIZE)
+    grey = lambertian("Grey", 0.5)
+    helpers.plane(scene, 8.0, grey)
+    mesh = bpy.data.meshes.new("Box")
+    corners = [(x, y, z) for z in (0.0, 1.0) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
+    mesh.from_pydata(corners, [], [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+    mesh.materials.append(grey)
+    box = bpy.data.objects.new("Box", mesh)
+    scene.collection.objects.link(box)
+    camera = helpers.top_down_camera(scene, ortho_scale=4.0)
+    camera.location.x = 0.5
+    world_map(scene, rgb, z_rotation=z_rotation)
+    return scene, box
+
+
+def save_png(name, pixels):
+    """The render as a PNG (sRGB, clipped), to look at beside Cycles'."""
+    rgb = np.clip(pixels[..., :3], 0.0, 1.0)
+    srgb = np.where(rgb <= 0.0031308, rgb * 12.92, 1.055 * rgb ** (1 / 2.4) - 0.055)
+    image = bpy.data.images.new(name + "_png", pixels.shape[1], pixels.shape[0])
+    image.pixels.foreach_set(np.concatenate([srgb, np.ones_like(srgb[..., :1])], axis=-1).astype(np.float32).ravel())
+    image.filepath_raw = os.path.join(helpers.OUTPUT, name + ".png")
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+
+
+def render(scene, name, engine="SUBSPLAT"):
+    scene.render.engine = engine
+    if engine == "CYCLES":
+        scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 128, False
+        scene.cycles.max_bounces, scene.cycles.seed = 0, 1
+    pixels = helpers.render(scene, name)
+    save_png(name, pixels)
+    if engine == "SUBSPLAT":
+        assert subsplat.last_render_error() is None, subsplat.last_render_error()
+    return pixels[..., :3].mean(axis=-1)
+
+
+# Each pixel's centre on the plane (x, y), and the pixels the box's top covers (left out of shadows).
+_centres = (np.arange(SIZE) + 0.5) / SIZE * 4.0 - 2.0
+X, Y = np.meshgrid(_centres + 0.5, _centres)
+BOX_TOP = (np.abs(X) < 0.5 + 2.0 / SIZE * 2) & (np.abs(Y) < 0.5 + 2.0 / SIZE * 2)
+
+
+def shadow(image, open_plane):
+    """The plane's pixels below half the open plane's radiance, the box's top left out."""
+    return (image < 0.5 * open_plane) & ~BOX_TOP
+
+
+def centroid(mask):
+    return np.array([X[mask].mean(), Y[mask].mean()])
+
+
+class EnvironmentLightsLikeCycles(unittest.TestCase):
+    measured = {}
+
+    @classmethod
+    def tearDownClass(cls):
+        print("environment: " + ", ".join(f"{k} {v}" for k, v in cls.measured.items()))
+
+    def test_decomposition_conserves_the_light_on_horizontal_surfaces(self):
+        """No render: for maps of a sun and a sky, of three suns and of noise with a bright band,
+        unturned and turned, the suns plus the remainder give a surface facing up, and one facing
+        down, the map's own irradiance (1e-9). The sun-and-sky map makes one sun: its irradiance is
+        what a surface facing it gets from the map's bright part (1e-9), within 2 % of the disc's;
+        it is within 0.5 degrees of the disc's centre and its diameter within 20 % of the disc's. A
+        uniform map makes none."""
+        rng = np.random.default_rng(7)
+        three = sun_and_sky()
+        for elevation, azimuth in ((0.2, 1.0), (1.1, -2.0)):
+            three = np.maximum(three, sun_and_sky(sun=(elevation, azimuth), radius=math.radians(2)))
+        noise = rng.uniform(0.0, 1.0, (MAP[0], MAP[1], 3))
+        noise[60:70] += 8.0
+        turn = environment._euler_matrix((0.3, -0.5, 1.2))
+        for name, rgb in (("sun and sky", sun_and_sky()), ("three suns", three), ("noise and band", noise)):
+            for lookup in (None, turn):
+                with self.subTest(map=name, turned=lookup is not None):
+                    decomposition = environment.decompose(rgb, lookup)
+                    for normal in ((0, 0, 1), (0, 0, -1)):
+                        ours = environment.irradiance(decomposition, normal)
+                        exact = environment.map_irradiance(rgb, normal, lookup)
+                        np.testing.assert_allclose(ours, exact, rtol=1e-9)
+                    self.assertTrue(min(decomposition.above + decomposition.below) >= 0.0)
+        rgb = sun_and_sky()
+        decomposition = environment.decompose(rgb)
+        disc = np.where((rgb @ environment.LUMINANCE > 1.0)[..., None], rgb, 0.0)  # the sky's is 0.1
+        self.assertEqual(len(decomposition.suns), 1)
+        sun = decomposition.suns[0]
+        np.testing.assert_allclose(sun.irradiance, environment.map_irradiance(disc, sun.direction), rtol=1e-9)
+        off = math.degrees(math.acos(min(1.0, float(np.dot(sun.direction, unit(*SUN))))))
+        self.measured["map's sun"] = (f"{off:.2f} deg off, {math.degrees(sun.angle):.2f} deg across, "
+                                      f"{sun.irradiance[1]:.4f} W/m^2")
+        self.assertLess(off, 0.5)
+        self.assertAlmostEqual(sun.angle / (2 * SUN_RADIUS), 1.0, delta=0.2)
+        self.assertAlmostEqual(sun.irradiance[1] / SUN_IRRADIANCE, 1.0, delta=0.02)
+        self.assertEqual(environment.decompose(np.full((MAP[0], MAP[1], 3), 0.4)).suns, [])
+
+    def test_a_large_map_decomposes_in_well_under_a_second(self):
+        """A 2048 x 1024 map (a sun on noise) through image_decomposition, read from a Blender image:
+        under a second, then kept (the second call reads nothing)."""
+        rgb = np.random.default_rng(3).uniform(0.1, 0.3, (1024, 2048, 3)).astype(np.float32)
+        rgb[700:712, 300:312] = 4000.0
+        image = bpy.data.images.new("Large", 2048, 1024, float_buffer=True)
+        image.pixels.foreach_set(np.concatenate([rgb, np.ones_like(rgb[..., :1])], axis=-1).ravel())
+        image.pack()  # not dirty: kept by its file's key
+        start = time.perf_counter()
+        first = environment.image_decomposition(image)
+        seconds = time.perf_counter() - start
+        start = time.perf_counter()
+        again = environment.image_decomposition(image)
+        kept = time.perf_counter() - start
+        self.measured["2048 x 1024"] = (f"{seconds * 1000:.0f} ms (read, averaged down, decomposed), "
+                                        f"kept {kept * 1000:.2f} ms")
+        self.assertLess(seconds, 1.0)
+        self.assertIs(first, again)
+        self.assertEqual(len(first.suns), 1)
+
+    def compare_shadows(self, name, z_rotation=None):
+        """SubSplat and Cycles renders of the plane and box under the sun-and-sky map, and of the
+        plane alone: their shadow masks and open planes' median radiance; checks the shadows overlap
+        by more than 80 % (intersection over union) and their centroids lie within 3 pixels (an
+        eighth of the shadow's length)."""
+        scene, box = plane_and_box(sun_and_sky(), z_rotation)
+        images, levels = {}, {}
+        for engine in ("SUBSPLAT", "CYCLES"):
+            box.hide_render = True
+            levels[engine] = float(np.median(render(scene, f"environment_{name}_open_{engine.lower()}", engine)))
+            box.hide_render = False
+            images[engine] = render(scene, f"environment_{name}_{engine.lower()}", engine)
+        masks = {engine: shadow(image, levels[engine]) for engine, image in images.items()}
+        overlap = (masks["SUBSPLAT"] & masks["CYCLES"]).sum() / (masks["SUBSPLAT"] | masks["CYCLES"]).sum()
+        offset = np.linalg.norm(centroid(masks["SUBSPLAT"]) - centroid(masks["CYCLES"])) * SIZE / 4.0
+        self.measured[name] = (f"open plane {levels['SUBSPLAT']:.4f}/{levels['CYCLES']:.4f}, shadow overlap "
+                               f"{overlap:.3f}, centroids {offset:.2f} px apart")
+        if overlap < 0.8:
+            helpers.write_difference(f"environment_{name}", images["SUBSPLAT"][..., None].repeat(3, -1),
+                                     images["CYCLES"][..., None].repeat(3, -1))
+        self.assertGreater(overlap, 0.8)
+        self.assertLess(offset, 3.0)
+        return masks, levels
+
+    def test_a_sun_in_the_map_shadows_as_in_cycles(self):
+        """Issue 20: the sun-and-sky map over a grey plane with a 1 x 1 x 1 box: the open plane's
+        median radiance within 5 % of Cycles'; the shadows (below half the open plane) where Cycles'
+        are (compare_shadows); the warning says one sun."""
+        warnings = []
+        scene, _ = plane_and_box(sun_and_sky())
+        lights = settings.world_lights(scene, warnings)
+        self.assertEqual([light.type for light in lights], ["WORLD", "SUN"])
+        self.assertTrue(any("lights the scene as 1 sun from its brightest regions" in w for w in warnings), warnings)
+        masks, levels = self.compare_shadows("sun")
+        self.assertAlmostEqual(levels["SUBSPLAT"] / levels["CYCLES"], 1.0, delta=0.05)
+
+    def test_a_mapping_node_turns_the_shadow(self):
+        """The map turned 50 degrees about z by a Mapping node: the shadow falls where Cycles' falls
+        (compare_shadows), and its centroid lies -50 degrees about the box from the unturned shadow's
+        direction (+x, away from the map's sun; the map is looked up at Rz d), within 3 degrees."""
+        turn = math.radians(50.0)
+        masks, _ = self.compare_shadows("turned", z_rotation=turn)
+        ours = centroid(masks["SUBSPLAT"])
+        expected = math.atan2(-math.sin(SUN[1]), -math.cos(SUN[1])) - turn  # away from the sun, turned
+        angle = math.degrees(math.remainder(math.atan2(ours[1], ours[0]) - expected, 2 * math.pi))
+        self.measured["turned by"] = f"{math.degrees(math.atan2(ours[1], ours[0])):.1f} deg ({angle:+.1f} off)"
+        self.assertLess(abs(angle), 3.0)
+
+    def test_a_uniform_map_is_a_uniform_world(self):
+        """A map of one colour makes no suns, and renders as a plain world of that colour (each pixel
+        within 0.5 %)."""
+        colour = (0.3, 0.5, 0.8)
+        rgb = np.ones((MAP[0], MAP[1], 3)) * colour
+        scene, _ = plane_and_box(rgb)
+        warnings = []
+        self.assertEqual([light.type for light in settings.world_lights(scene, warnings)], ["WORLD"])
+        self.assertTrue(any("no region of it is bright enough for a sun" in w for w in warnings), warnings)
+        mapped = render(scene, "environment_uniform_map")
+        helpers.set_world_colour(scene.world, colour)
+        plain = render(scene, "environment_uniform_world")
+        difference = float(np.abs(mapped / plain - 1.0).max())
+        self.measured["uniform"] = f"largest difference {difference:.2e}"
+        self.assertLess(difference, 0.005)
+
+
+if __name__ == "__main__":
+    helpers.run_tests()
