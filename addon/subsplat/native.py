@@ -443,12 +443,34 @@ def _settings(settings):
     return result
 
 
-class ProfileSet:
+class _Released:
+    """A library handle (self._handle, a c_void_p) released once, by release() or when the object is
+    collected; RELEASE names the library function that releases it."""
+    RELEASE = None
+
+    @property
+    def handle(self):
+        return self._handle.value
+
+    def release(self):
+        if self._handle:
+            getattr(library(), self.RELEASE)(self._handle)
+            self._handle = ctypes.c_void_p()
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # interpreter shutdown: the library may be gone
+            pass
+
+
+class ProfileSet(_Released):
     """A heterogeneous material's SubEdit profiles and their UV map (docs/HETEROGENEOUS.md); no GL needed.
 
     Materials keep their own reference, so a set may be dropped after Context.set_material.
     tolerance: the mean relative energy error the model may make (0: the library's default, 1 %).
     """
+    RELEASE = "ssReleaseProfileSet"
 
     def __init__(self, handle):
         self._handle = handle
@@ -487,10 +509,6 @@ class ProfileSet:
         _check(library().ssNewProfileSet(ctypes.byref(desc), tolerance, ctypes.byref(handle)))
         return cls(handle)
 
-    @property
-    def handle(self):
-        return self._handle.value
-
     def save(self, path):
         """Writes a SubEdit file, one texel per map texel."""
         _check(library().ssSaveProfileSet(self._handle, os.fsencode(path)))
@@ -504,25 +522,15 @@ class ProfileSet:
                 "gpu_bytes": int(i.gpu_bytes), "source_segments": i.source_segments,
                 "source_profiles": i.source_profiles}
 
-    def release(self):
-        if self._handle:
-            library().ssReleaseProfileSet(self._handle)
-            self._handle = ctypes.c_void_p()
 
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:  # interpreter shutdown: the library may be gone
-            pass
-
-
-class Image:
+class Image(_Released):
     """An image materials read through their meshes' UVs (docs/TEXTURES.md); no GL needed.
 
     Made from scene-linear RGB values, a (height, width, 3) array, row 0 at v = 0 (Blender's bottom
     row); the library keeps its own copy. Materials keep their own reference, so an image may be
     dropped after Context.set_material.
     """
+    RELEASE = "ssReleaseImage"
 
     def __init__(self, rgb):
         rgb = np.ascontiguousarray(rgb, dtype=np.float32)
@@ -532,21 +540,6 @@ class Image:
         self.width, self.height = rgb.shape[1], rgb.shape[0]
         desc = ImageDesc(self.width, self.height, _floats(rgb))
         _check(library().ssNewImage(ctypes.byref(desc), ctypes.byref(self._handle)))
-
-    @property
-    def handle(self):
-        return self._handle.value
-
-    def release(self):
-        if self._handle:
-            library().ssReleaseImage(self._handle)
-            self._handle = ctypes.c_void_p()
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:  # interpreter shutdown: the library may be gone
-            pass
 
 
 class Context:

@@ -4,7 +4,6 @@ export/environment.py): its light on horizontal surfaces is conserved, a sun in 
 shadow Cycles casts, a Mapping node turns it, a uniform map is a uniform world. Small renders
 (96 x 96, Cycles 128 samples, no bounces); every render is also written as a PNG to look at."""
 import math
-import os
 import time
 import unittest
 
@@ -74,28 +73,11 @@ def plane_and_box(rgb, z_rotation=None):
     scene = helpers.empty_scene(SIZE, SIZE)
     grey = lambertian("Grey", 0.5)
     helpers.plane(scene, 8.0, grey)
-    mesh = bpy.data.meshes.new("Box")
-    corners = [(x, y, z) for z in (0.0, 1.0) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
-    mesh.from_pydata(corners, [], [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
-    mesh.materials.append(grey)
-    box = bpy.data.objects.new("Box", mesh)
-    scene.collection.objects.link(box)
+    box = helpers.unit_box(scene, grey)
     camera = helpers.top_down_camera(scene, ortho_scale=4.0)
     camera.location.x = 0.5
     world_map(scene, rgb, z_rotation=z_rotation)
     return scene, box
-
-
-def save_png(name, pixels):
-    """The render as a PNG (sRGB, clipped), to look at beside Cycles'."""
-    rgb = np.clip(pixels[..., :3], 0.0, 1.0)
-    srgb = np.where(rgb <= 0.0031308, rgb * 12.92, 1.055 * rgb ** (1 / 2.4) - 0.055)
-    image = bpy.data.images.new(name + "_png", pixels.shape[1], pixels.shape[0])
-    image.pixels.foreach_set(np.concatenate([srgb, np.ones_like(srgb[..., :1])], axis=-1).astype(np.float32).ravel())
-    image.filepath_raw = os.path.join(helpers.OUTPUT, name + ".png")
-    image.file_format = "PNG"
-    image.save()
-    bpy.data.images.remove(image)
 
 
 def render(scene, name, engine="SUBSPLAT"):
@@ -104,7 +86,7 @@ def render(scene, name, engine="SUBSPLAT"):
         scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 128, False
         scene.cycles.max_bounces, scene.cycles.seed = 0, 1
     pixels = helpers.render(scene, name)
-    save_png(name, pixels)
+    helpers.write_png(name, pixels)
     if engine == "SUBSPLAT":
         assert subsplat.last_render_error() is None, subsplat.last_render_error()
     return pixels[..., :3].mean(axis=-1)

@@ -103,12 +103,7 @@ class RadiometryMatchesCycles(unittest.TestCase):
         scene = helpers.empty_scene(size, size)
         grey = lambertian("Grey", 0.5)
         helpers.plane(scene, 8.0, grey)
-        mesh = bpy.data.meshes.new("Box")
-        corners = [(x, y, z) for z in (0.0, 1.0) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
-        mesh.from_pydata(corners, [], [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
-        mesh.materials.append(grey)
-        box = bpy.data.objects.new("Box", mesh)
-        scene.collection.objects.link(box)
+        box = helpers.unit_box(scene, grey)
         camera = helpers.top_down_camera(scene, ortho_scale=4.0)
         camera.location.x = 1.0
         add_light(scene)

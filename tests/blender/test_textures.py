@@ -28,18 +28,6 @@ def linear_to_srgb(values):
     return np.where(values <= 0.0031308, values * 12.92, 1.055 * values ** (1 / 2.4) - 0.055)
 
 
-def save_png(name, pixels):
-    """The render as a PNG (Standard view: sRGB, clipped), to look at beside Cycles'."""
-    rgba = np.concatenate([linear_to_srgb(np.clip(pixels[..., :3], 0.0, 1.0)), np.ones_like(pixels[..., :1])],
-                          axis=-1).astype(np.float32)
-    image = bpy.data.images.new(name + "_png", pixels.shape[1], pixels.shape[0])
-    image.pixels.foreach_set(rgba.ravel())
-    image.filepath_raw = os.path.join(helpers.OUTPUT, name + ".png")
-    image.file_format = "PNG"
-    image.save()
-    bpy.data.images.remove(image)
-
-
 def render(scene, name, engine="SUBSPLAT"):
     scene.render.engine = engine
     if engine == "CYCLES":
@@ -47,7 +35,7 @@ def render(scene, name, engine="SUBSPLAT"):
         scene.cycles.max_bounces, scene.cycles.seed = 0, 1
         scene.cycles.filter_width = 0.01  # each pixel seen at its centre, as SubSplat's one sample sees it
     pixels = helpers.render(scene, name)
-    save_png(name, pixels)
+    helpers.write_png(name, pixels)
     if engine == "SUBSPLAT":
         assert subsplat.last_render_error() is None, subsplat.last_render_error()
     return pixels

@@ -83,6 +83,17 @@ def plane(scene, size, material):
     return obj
 
 
+def unit_box(scene, material):
+    """A 1 x 1 x 1 box standing on z = 0, centred on the z axis (the shadow tests' blocker)."""
+    mesh = bpy.data.meshes.new("Box")
+    corners = [(x, y, z) for z in (0.0, 1.0) for y in (-0.5, 0.5) for x in (-0.5, 0.5)]
+    mesh.from_pydata(corners, [], [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+    mesh.materials.append(material)
+    box = bpy.data.objects.new("Box", mesh)
+    scene.collection.objects.link(box)
+    return box
+
+
 def add_light(scene, kind, location=(0, 0, 0), rotation=(0, 0, 0), energy=1.0, **extra):
     data = bpy.data.lights.new(kind.title(), kind)
     data.energy = energy
@@ -140,18 +151,30 @@ def dipole_total_reflectance(sigma_a, sigma_s_prime, eta):
     return albedo / 2 * (1 + math.exp(-4 / 3 * big_a * root)) * math.exp(-root)
 
 
-def write_difference(name, ours, reference):
-    """A false-colour |ours - reference| / reference image a person can look at (PNG)."""
-    diff = np.abs(ours[..., :3] - reference[..., :3]).mean(axis=-1) / max(float(np.abs(reference[..., :3]).mean()), 1e-12)
-    t = np.clip(diff * 10.0, 0.0, 1.0)  # x10: 10 % difference is full red
-    rgba = np.stack([t, 1 - np.abs(2 * t - 1), 1 - t, np.ones_like(t)], axis=-1).astype(np.float32)
-    image = bpy.data.images.new(name, ours.shape[1], ours.shape[0], float_buffer=False)
-    image.pixels.foreach_set(rgba.ravel())
-    path = os.path.join(OUTPUT, name + "_difference.png")
+def _save_png(rgba, path):
+    image = bpy.data.images.new(os.path.basename(path), rgba.shape[1], rgba.shape[0], float_buffer=False)
+    image.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
     image.filepath_raw = path
     image.file_format = "PNG"
     image.save()
     bpy.data.images.remove(image)
+
+
+def write_png(name, pixels):
+    """A render (linear RGBA) as <name>.png in the output folder (Standard view: sRGB, clipped), to
+    look at beside Cycles'."""
+    rgb = np.clip(pixels[..., :3], 0.0, 1.0)
+    srgb = np.where(rgb <= 0.0031308, rgb * 12.92, 1.055 * rgb ** (1 / 2.4) - 0.055)
+    _save_png(np.concatenate([srgb, np.ones_like(srgb[..., :1])], axis=-1), os.path.join(OUTPUT, name + ".png"))
+
+
+def write_difference(name, ours, reference):
+    """A false-colour |ours - reference| / reference image a person can look at (PNG)."""
+    diff = np.abs(ours[..., :3] - reference[..., :3]).mean(axis=-1) / max(float(np.abs(reference[..., :3]).mean()), 1e-12)
+    t = np.clip(diff * 10.0, 0.0, 1.0)  # x10: 10 % difference is full red
+    rgba = np.stack([t, 1 - np.abs(2 * t - 1), 1 - t, np.ones_like(t)], axis=-1)
+    path = os.path.join(OUTPUT, name + "_difference.png")
+    _save_png(rgba, path)
     return path
 
 
