@@ -141,6 +141,24 @@ void readMesh(Scene& scene, Reader& r) {
   scene.setMesh(id, desc);
 }
 
+// An image as the writer puts it: width u32, height u32, texels (3 f32 each), checked as ssNewImage
+// checks it; `what` names it in the messages.
+std::shared_ptr<const TextureImage> readImage(Reader& r, const char* what) {
+  SsImageDesc image{};
+  image.width = r.get<uint32_t>();
+  image.height = r.get<uint32_t>();
+  require(image.width >= 1 && image.height >= 1 && image.width <= TextureImage::kMaxSide &&
+              image.height <= TextureImage::kMaxSide,
+          r.what() + ": " + what + " size out of range");
+  std::vector<float> texels = r.getArray<float>(3 * size_t(image.width) * size_t(image.height));
+  image.rgb = texels.data();
+  try {
+    return std::make_shared<const TextureImage>(image);
+  } catch (const Error& e) {
+    fail(e.status(), r.what() + ": " + what + ": " + e.what());
+  }
+}
+
 void readMaterial(Scene& scene, Reader& r, uint32_t version) {
   uint32_t id = r.get<uint32_t>();
   SsMaterialDesc desc{};
@@ -173,19 +191,7 @@ void readMaterial(Scene& scene, Reader& r, uint32_t version) {
       for (float& v : t.transform) v = r.get<float>();
       t.extension = r.get<int32_t>();
       t.interpolation = r.get<int32_t>();
-      SsImageDesc image{};
-      image.width = r.get<uint32_t>();
-      image.height = r.get<uint32_t>();
-      require(image.width >= 1 && image.height >= 1 && image.width <= TextureImage::kMaxSide &&
-                  image.height <= TextureImage::kMaxSide,
-              r.what() + ": texture size out of range");
-      std::vector<float> texels = r.getArray<float>(3 * size_t(image.width) * size_t(image.height));
-      image.rgb = texels.data();
-      try {
-        images[k] = std::make_shared<const TextureImage>(image);
-      } catch (const Error& e) {
-        fail(e.status(), r.what() + ": " + e.what());
-      }
+      images[k] = readImage(r, "texture");
       t.image = reinterpret_cast<SsImage>(1);  // present; the image itself goes by images[k]
     }
     desc.normal_strength = r.get<float>();
@@ -250,21 +256,7 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
         SsEnvironmentDesc desc{};
         desc.strength = r.get<float>();
         for (float& v : desc.rotation) v = r.get<float>();
-        SsImageDesc image{};
-        image.width = r.get<uint32_t>();
-        image.height = r.get<uint32_t>();
-        require(image.width >= 1 && image.height >= 1 && image.width <= TextureImage::kMaxSide &&
-                    image.height <= TextureImage::kMaxSide,
-                r.what() + ": environment size out of range");
-        std::vector<float> texels = r.getArray<float>(3 * size_t(image.width) * size_t(image.height));
-        image.rgb = texels.data();
-        std::shared_ptr<const TextureImage> made;
-        try {
-          made = std::make_shared<const TextureImage>(image);
-        } catch (const Error& e) {
-          fail(e.status(), r.what() + ": " + e.what());
-        }
-        scene.setEnvironment(desc, std::move(made));
+        scene.setEnvironment(desc, readImage(r, "environment"));
         break;
       }
       case kFrame:
