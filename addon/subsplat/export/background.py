@@ -7,7 +7,7 @@ import collections
 import numpy as np
 
 from .. import native, principled
-from . import textures
+from . import environment as environment_light, settings, textures
 from .data import Environment, ExportError
 
 # Native images of environment maps made so far: image.name_full -> (key, native.Image), at most
@@ -40,7 +40,6 @@ def _native_map(world, image):
 def environment(scene, warnings):
     """The world's equirectangular Environment Texture into its Background's Color as the background
     (data.Environment), or None: no world, film transparent, no such texture."""
-    from . import environment as environment_module, settings  # (the world's light; this module: what is seen)
     world = scene.world
     if world is None or scene.render.film_transparent or not getattr(world, "use_nodes", False):
         return None
@@ -60,7 +59,7 @@ def environment(scene, warnings):
         return None  # settings.py warns of the linked strength
     # The Mapping nodes as the light reads them (export/environment.py, which also warns of what it
     # does not read: said once, there).
-    rotation = environment_module.texture_lookup(texture, f"world '{world.name}'", [])
+    rotation = environment_light.texture_lookup(texture, f"world '{world.name}'", [])
     rotation = np.eye(3) if rotation is None else rotation
     return Environment(image=_native_map(world, texture.image),
                        rotation=tuple(float(v) for v in rotation.T.ravel()),  # column-major

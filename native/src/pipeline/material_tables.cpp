@@ -11,32 +11,51 @@
 
 namespace subsplat {
 
+std::map<const TextureImage*, uint32_t> MaterialTables::uploadImages(const std::vector<MaterialEntry>& materials) {
+  std::vector<std::shared_ptr<const TextureImage>> images;
+  std::map<const TextureImage*, uint32_t> offsets;  // in texels
+  size_t total = 0;
+  for (const MaterialEntry& e : materials)
+    for (const Texture* t : {&e.color, &e.normal})
+      if (*t && offsets.try_emplace(t->image.get(), uint32_t(total)).second) {
+        images.push_back(t->image);
+        total += t->image->texels().size();
+      }
+  if (textureTexels_ && images == uploadedImages_) return offsets;  // a material edit that kept its images
+  GLint maxTexels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  if (total > size_t(std::max(maxTexels, 0)))
+    fail(SS_LIMIT_EXCEEDED, "the materials' textures hold " + std::to_string(total) +
+                                " texels, more than this GPU's buffer texture limit of " + std::to_string(maxTexels));
+  std::vector<float> texels;
+  texels.reserve(3 * std::max<size_t>(total, 1));
+  for (const auto& image : images) {
+    const float* first = &image->texels().front().x;
+    texels.insert(texels.end(), first, first + 3 * image->texels().size());
+  }
+  if (texels.empty()) texels.assign(3, 1.0f);
+  textureTexels_.reset();
+  {
+    gl::Purpose purpose("the materials' textures (" + std::to_string(texels.size() / 3) + " texels)");
+    texelBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, texels.size() * sizeof(float), texels.data());
+  }
+  textureTexels_ = gl::makeBufferTexture(GL_RGB32F, texelBuffer_);
+  uploadedImages_ = std::move(images);
+  return offsets;
+}
+
 void MaterialTables::update(const Scene& scene, float epsilon) {
   if (uploadedMaterialVersion_ == scene.materialVersion() && materialBuffer_ && uploadedEpsilon_ == epsilon) return;
   const auto& materials = scene.denseMaterials();
   std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
   int layers = 0, transportLayers = 0;
   uint32_t mapOffset = 0;
-  // Each image once, wherever materials share it.
-  std::map<const TextureImage*, uint32_t> imageOffsets;
-  std::vector<float> texels;
-  GLint maxTexels = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  const std::map<const TextureImage*, uint32_t> imageOffsets = uploadImages(materials);
   auto place = [&](const Texture& t, uint32_t location[4], float rowU[4], float rowV[4]) {
     if (!t) return;
-    const TextureImage& image = *t.image;
-    auto [it, added] = imageOffsets.try_emplace(&image, uint32_t(texels.size() / 3));
-    if (added) {
-      size_t count = image.texels().size();
-      if (texels.size() / 3 + count > size_t(std::max(maxTexels, 0)))
-        fail(SS_LIMIT_EXCEEDED, "the materials' textures hold " + std::to_string(texels.size() / 3 + count) +
-                                    " texels, more than this GPU's buffer texture limit of " + std::to_string(maxTexels));
-      const float* first = &image.texels().front().x;
-      texels.insert(texels.end(), first, first + 3 * count);
-    }
-    location[0] = it->second;
-    location[1] = uint32_t(image.width());
-    location[2] = uint32_t(image.height());
+    location[0] = imageOffsets.at(t.image.get());
+    location[1] = uint32_t(t.image->width());
+    location[2] = uint32_t(t.image->height());
     location[3] = uint32_t(t.extension) | uint32_t(t.interpolation) << 2;
     for (int k = 0; k < 3; ++k) rowU[k] = t.transform[k], rowV[k] = t.transform[3 + k];
   };
@@ -82,12 +101,6 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
-  if (texels.empty()) texels.assign(3, 1.0f);
-  {
-    gl::Purpose purpose("the materials' textures (" + std::to_string(texels.size() / 3) + " texels)");
-    texelBuffer_ = gl::makeBuffer(GL_TEXTURE_BUFFER, texels.size() * sizeof(float), texels.data());
-  }
-  textureTexels_ = gl::makeBufferTexture(GL_RGB32F, texelBuffer_);
   kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
                                         std::max(layers, 1), GL_LINEAR);
   for (size_t i = 0; i < materials.size(); ++i) {

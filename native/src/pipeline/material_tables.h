@@ -4,6 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
 
 #include "gl/gl.h"
 #include "scene.h"
@@ -46,7 +49,12 @@ class MaterialTables {
   GLuint textureTexels() const { return textureTexels_.id(); }
 
  private:
+  // Every image the materials read, each once in the order met, into textureTexels_ (uploaded again
+  // only when that list changes, not on every material edit); each image's first texel.
+  std::map<const TextureImage*, uint32_t> uploadImages(const std::vector<MaterialEntry>& materials);
+
   gl::Buffer materialBuffer_, texelBuffer_;
+  std::vector<std::shared_ptr<const TextureImage>> uploadedImages_;  // what textureTexels_ holds
   gl::Texture kernelTable_, minimalRadius_, transport_, textureTexels_;
   int kernelLayers_ = 1;
   float uploadedEpsilon_ = -1.0f;
