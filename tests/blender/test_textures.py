@@ -345,6 +345,21 @@ class Warnings(unittest.TestCase):
         self.assertEqual(data.color_texture.interpolation, "LINEAR")
         self.assertTrue(any("interpolates Cubic, which SubSplat renders as Linear" in w for w in warnings), warnings)
 
+    def test_a_base_color_the_principled_source_does_not_read_is_named(self):
+        """Blender 3.x: a translucent material whose source is the Principled BSDF takes its colour
+        from Subsurface Color, so an image into Base Color is not read, and the warning says so
+        (4.x reads Base Color as the albedo: no warning)."""
+        helpers.empty_scene(8, 8)
+        material = lambertian("Sourced")
+        material.subsplat.enabled, material.subsplat.source = True, "PRINCIPLED"
+        bsdf = material.node_tree.nodes["Principled BSDF"]
+        bsdf.inputs[subsplat.version.PRINCIPLED_SUBSURFACE_SCALE].default_value = 1.0  # a radius to convert
+        texture_into(material, checker_image("Unread", 2, A, B))
+        _data, warnings = self.describe(material)
+        named = any("material 'Sourced': Base Color is connected to a Image Texture node, which SubSplat does not "
+                    "read: its Principled BSDF source takes the colour from Subsurface Color" in w for w in warnings)
+        self.assertEqual(named, subsplat.principled.COLOR_INPUT != "Base Color", warnings)
+
     def test_a_missing_image_fails_naming_the_material_and_the_image(self):
         helpers.empty_scene(8, 8)
         material = lambertian("Missing")

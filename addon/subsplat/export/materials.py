@@ -220,7 +220,13 @@ def material_data(material, warnings=None):
         data = translucent_data(material, warnings)
         # A source other than the BSDF does not take its colour: an image there is a tint. (4.x's
         # PRINCIPLED source reads Base Color as its albedo, principled.py.)
-        read_textures(material, principled_node(material), data, settings.source != "PRINCIPLED", warnings)
+        node = principled_node(material)
+        read_textures(material, node, data, settings.source != "PRINCIPLED", warnings)
+        if (settings.source == "PRINCIPLED" and principled.COLOR_INPUT != "Base Color" and node is not None
+                and warnings is not None and textures.linked(node.inputs["Base Color"]) is not None):
+            warnings.append(f"material '{material.name}': Base Color is connected to a "
+                            f"{textures.linked(node.inputs['Base Color'])[0].bl_label} node, which SubSplat does "
+                            f"not read: its Principled BSDF source takes the colour from {principled.COLOR_INPUT}")
         return data
     node = principled_node(material)
     if node is not None:
