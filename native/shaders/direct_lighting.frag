@@ -45,12 +45,20 @@ vec2 shapePoint(int k, int n) {
 float shapeNorm(vec2 x) { return lightSoftRectangle != 0 ? max(abs(x.x), abs(x.y)) : length(x); }
 
 // The share of the light that reaches a receiver at light depth `depth` over the view's point
-// `ndc`, percentage-closer soft shadows (Fernando 2005) over the light's own shape: the blockers'
-// mean depth, then the share of the penumbra's taps that do not block. texel: a texel's world size
-// at the receiver; slope: how fast the receiver's depth grows across the map per texel (its bias);
-// p: the receiver.
-float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
-  vec2 centre = (ndc * 0.5 + 0.5) * float(resolution);
+// `ndc`, percentage-closer soft shadows (Fernando 2005) over the light's own shape on a depth map
+// of mapResolution texels (the shadow map for suns, the irradiance buffer's light depth for the
+// others; docs/SOFT_SHADOWS.md): the blockers' mean depth, then the share of the penumbra's taps
+// that do not block. texel: a map texel's world size at the receiver; slope: how fast the
+// receiver's depth grows across the map per texel (its bias); p: the receiver. The taps reach at
+// most 32 of the irradiance buffer's texels (maxReach map texels), whatever the map's resolution.
+float softVisibility(sampler2D map, int mapResolution, vec2 ndc, float depth, float texel, float slope, vec3 p) {
+  float maxReach = 32.0 * float(mapResolution) / float(resolution);
+  // A blocker counts as in the cone up to one of the irradiance buffer's texels beyond it (the
+  // allowance the cone test was made with; one texel of a finer map admits too few, and the
+  // blockers' mean then falls back on the first look's, which counts parts of the occluder too far
+  // to the side: an area light's penumbra 1.3 times Cycles' at 4 times the resolution).
+  float coneAllowance = float(mapResolution) / float(resolution);
+  vec2 centre = (ndc * 0.5 + 0.5) * float(mapResolution);
   // The light's extent as two world vectors, and their images in the map at p, in texels (the
   // penumbra is the light's shape scaled by penumbraScale; a perspective map's texels shrink off
   // its axis and stretch across a slope).
@@ -63,7 +71,7 @@ float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
   vec4 c0 = lightViewProj * vec4(p, 1.0);
   vec4 ca = lightViewProj * vec4(p + A * (h / max(length(A), 1e-20)), 1.0);
   vec4 cb = lightViewProj * vec4(p + B * (h / max(length(B), 1e-20)), 1.0);
-  float toTexels = 0.5 * float(resolution);
+  float toTexels = 0.5 * float(mapResolution);
   vec2 ja = (ca.xy / ca.w - c0.xy / c0.w) * toTexels * (length(A) / h);
   vec2 jb = (cb.xy / cb.w - c0.xy / c0.w) * toTexels * (length(B) / h);
   float reach = max(max(length(ja), length(jb)), 1e-6);  // texels per unit of penumbraScale
@@ -72,16 +80,16 @@ float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
   // receiver to the light (at a blocker's depth the cone is the light's shape scaled by
   // penumbraScale(depth, stored)), so that parts of an occluder too far to the side to hide the
   // light do not count.
-  float scale = clamp(penumbraScale(depth, lightNearDepth), 1.0 / reach, 32.0 / reach);
+  float scale = clamp(penumbraScale(depth, lightNearDepth), 1.0 / reach, maxReach / reach);
   float blockerDepth = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
     float blockers = 0.0, sum = 0.0;
     for (int k = 0; k < 16; ++k) {
       vec2 x = shapePoint(k, 16), offset = scale * (x.x * ja + x.y * jb);
-      ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
-      float stored = texelFetch(irradianceLightDepth, t, 0).r;
+      ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(mapResolution - 1));
+      float stored = texelFetch(map, t, 0).r;
       if (stored < depth - 2.0 * texel - slope * length(offset) * texel &&
-          (pass == 0 || shapeNorm(x) * scale <= penumbraScale(depth, stored) + 1.0 / reach))
+          (pass == 0 || shapeNorm(x) * scale <= penumbraScale(depth, stored) + coneAllowance / reach))
         blockers += 1.0, sum += stored;
     }
     if (blockers == 0.0) {
@@ -89,14 +97,14 @@ float softVisibility(vec2 ndc, float depth, float texel, float slope, vec3 p) {
       break;  // the second look found none in the cone: keep the first's
     }
     blockerDepth = sum / blockers;
-    scale = clamp(penumbraScale(depth, blockerDepth), 1.0 / reach, 32.0 / reach);
+    scale = clamp(penumbraScale(depth, blockerDepth), 1.0 / reach, maxReach / reach);
   }
-  float width = clamp(penumbraScale(depth, blockerDepth), 0.5 / reach, 32.0 / reach);
+  float width = clamp(penumbraScale(depth, blockerDepth), 0.5 / reach, maxReach / reach);
   float lit = 0.0;
   for (int k = 0; k < 32; ++k) {
     vec2 x = shapePoint(k, 32), offset = width * (x.x * ja + x.y * jb);
-    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(resolution - 1));
-    float stored = texelFetch(irradianceLightDepth, t, 0).r;
+    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(mapResolution - 1));
+    float stored = texelFetch(map, t, 0).r;
     if (depth <= stored + 2.0 * texel + slope * length(offset) * texel) lit += 1.0;
   }
   return lit / 32.0;
@@ -150,10 +158,17 @@ void main() {
   vec3 ndc = clip.xyz / clip.w;
   bool inside = clip.w > 0.0 && all(lessThan(abs(ndc.xy), vec2(1.0)));
   float visibility = 1.0;
-  if (inside && lightSoftSize > 0.0) {  // on the irradiance buffer's map: the penumbra's taps span it
-    float depth = lightType == LIGHT_SUN ? dot(offset, lightDirection) : distance(offset, lightPosition);
+  if (inside && lightSoftSize > 0.0 && lightType == LIGHT_SUN) {  // on the shadow map, its texels and bias its own
+    float fineTexel = texel * float(resolution) / float(shadowResolution);
+    vec3 fine = p + n * (1.5 * fineTexel);
+    vec4 c = lightViewProj * vec4(fine, 1.0);
     float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
-    visibility = softVisibility(ndc.xy, depth, texel, slope, p);
+    visibility = softVisibility(shadowDepth, shadowResolution, c.xy / c.w, dot(fine, lightDirection), fineTexel,
+                                slope, p);
+  } else if (inside && lightSoftSize > 0.0) {  // on the irradiance buffer's map
+    float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
+    visibility = softVisibility(irradianceLightDepth, resolution, ndc.xy, distance(offset, lightPosition), texel,
+                                slope, p);
   } else if (inside) {  // on the shadow map, its texels and bias its own
     float fineTexel = texel * float(resolution) / float(shadowResolution);
     vec3 fine = p + n * (1.5 * fineTexel);

@@ -22,6 +22,7 @@ def lambertian(name, grey):
 
 class RadiometryMatchesCycles(unittest.TestCase):
     SIZE = 64
+    ends = {}  # penumbra(): where each shadow ends, per render name and engine
 
     def compare(self, name, add_light, region=0.5, against_cycles=True):
         scene = helpers.empty_scene(self.SIZE, self.SIZE)
@@ -98,7 +99,8 @@ class RadiometryMatchesCycles(unittest.TestCase):
         """A grey plane with a 1 x 1 x 1 box on it, lit by add_light(scene) from the -x side: the open
         plane's mean radiance under SubSplat and Cycles, and the 10-90 % width (scene units) of the
         shadow's far edge, the render over the same render without the box, along the shadow's middle
-        rows, for each: ({engine: mean}, {engine: width})."""
+        rows, for each: ({engine: mean}, {engine: width}); self.ends[name]: where the shadow ends
+        (its far edge's 50 % crossing, scene units) for each engine."""
         import bpy
         scene = helpers.empty_scene(size, size)
         grey = lambertian("Grey", 0.5)
@@ -128,19 +130,25 @@ class RadiometryMatchesCycles(unittest.TestCase):
                         return x + (level - visible[x]) / (visible[x + 1] - visible[x])
                 return float(size)
             widths[engine] = (crossing(0.9) - crossing(0.1)) * 4.0 / size
+            RadiometryMatchesCycles.ends.setdefault(name, {})[engine] = crossing(0.5) * 4.0 / size
+        ends = RadiometryMatchesCycles.ends[name]
         print(f"radiometry {name}: open plane subsplat {means['SUBSPLAT']:.5f} cycles {means['CYCLES']:.5f}; "
-              f"penumbra 10-90 % subsplat {widths['SUBSPLAT']:.3f} cycles {widths['CYCLES']:.3f} (units)")
+              f"penumbra 10-90 % subsplat {widths['SUBSPLAT']:.3f} cycles {widths['CYCLES']:.3f} (units); "
+              f"shadow ends {ends['SUBSPLAT'] - ends['CYCLES']:+.3f} units from Cycles' ({4.0 / size:.3f} a pixel)")
         return means, widths
 
     def test_sun_angle_penumbra(self):
         """Issue 20: a sun of 10 degrees at 45 over a grey plane with a 1 x 1 x 1 box on it: the open
         plane's mean radiance within 3 % of Cycles, and the 10-90 % width of the shadow's far edge
         (the render over the same render without the box, along the shadow's middle row) within
-        15 % of Cycles' (docs/SOFT_SHADOWS.md)."""
+        15 % of Cycles'; the shadow ends (its far edge's 50 % crossing) within a pixel of where
+        Cycles' ends (docs/SOFT_SHADOWS.md)."""
         means, widths = self.penumbra("penumbra", lambda scene: helpers.add_light(
             scene, "SUN", rotation=(0, math.radians(-45), 0), energy=3.0, angle=math.radians(10)))
         self.assertAlmostEqual(means["SUBSPLAT"] / means["CYCLES"], 1.0, delta=0.03)
         self.assertAlmostEqual(widths["SUBSPLAT"] / widths["CYCLES"], 1.0, delta=0.15)
+        ends = self.ends["penumbra"]
+        self.assertLess(abs(ends["SUBSPLAT"] - ends["CYCLES"]), 4.0 / 128)
 
     def test_area_light_penumbra(self):
         """Issue 20: an area light of each shape, 3 units from the box's far top edge at 45 degrees,
