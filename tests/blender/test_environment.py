@@ -13,7 +13,7 @@ import numpy as np
 from subsplat_testing import helpers
 
 subsplat = helpers.enable_addon()
-from subsplat.export import environment, settings  # noqa: E402
+from subsplat.export import environment, settings, sky  # noqa: E402
 
 SIZE = 96             # pixels; the camera sees 4 x 4 units: 24 pixels a unit
 MAP = (128, 256)      # the test maps' rows and columns
@@ -67,16 +67,34 @@ def lambertian(name, grey):
     return material
 
 
+def sky_world(scene, elevation=math.radians(40.0), rotation=math.radians(-90.0), strength=0.1):
+    """The world's Background colour from a Nishita Sky Texture (Blender's default sky) with its sun
+    at `elevation`, turned by `rotation` (the node's Sun Rotation; -90 degrees puts it towards -x),
+    at `strength` (the sky is bright: a clear noon is about 10 per unit)."""
+    world = scene.world
+    world.use_nodes = True
+    tree = world.node_tree
+    node = tree.nodes.new("ShaderNodeTexSky")
+    node.sky_type = "NISHITA"
+    node.sun_elevation, node.sun_rotation = elevation, rotation
+    tree.links.new(node.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = strength
+    return node
+
+
 def plane_and_box(rgb, z_rotation=None):
-    """A grey plane with a 1 x 1 x 1 box at the origin under the map, seen from above (the camera
-    centred on (0.5, 0): the view spans x -1.5..2.5, y -2..2)."""
+    """A grey plane with a 1 x 1 x 1 box at the origin under the map (a Nishita sky when rgb is
+    None), seen from above (the camera centred on (0.5, 0): the view spans x -1.5..2.5, y -2..2)."""
     scene = helpers.empty_scene(SIZE, SIZE)
     grey = lambertian("Grey", 0.5)
     helpers.plane(scene, 8.0, grey)
     box = helpers.unit_box(scene, grey)
     camera = helpers.top_down_camera(scene, ortho_scale=4.0)
     camera.location.x = 0.5
-    world_map(scene, rgb, z_rotation=z_rotation)
+    if rgb is None:
+        sky_world(scene)
+    else:
+        world_map(scene, rgb, z_rotation=z_rotation)
     return scene, box
 
 
@@ -171,12 +189,12 @@ class EnvironmentLightsLikeCycles(unittest.TestCase):
         self.assertIs(first, again)
         self.assertEqual(len(first.suns), 1)
 
-    def compare_shadows(self, name, z_rotation=None):
+    def compare_shadows(self, name, z_rotation=None, rgb="sun and sky"):
         """SubSplat and Cycles renders of the plane and box under the sun-and-sky map, and of the
         plane alone: their shadow masks and open planes' median radiance; checks the shadows overlap
         by more than 80 % (intersection over union) and their centroids lie within 3 pixels (an
         eighth of the shadow's length)."""
-        scene, box = plane_and_box(sun_and_sky(), z_rotation)
+        scene, box = plane_and_box(sun_and_sky() if rgb == "sun and sky" else rgb, z_rotation)
         images, levels = {}, {}
         for engine in ("SUBSPLAT", "CYCLES"):
             box.hide_render = True
@@ -234,6 +252,105 @@ class EnvironmentLightsLikeCycles(unittest.TestCase):
         difference = float(np.abs(mapped / plain - 1.0).max())
         self.measured["uniform"] = f"largest difference {difference:.2e}"
         self.assertLess(difference, 0.005)
+
+
+class SkyIsCyclesSky(unittest.TestCase):
+    """Issue 20, item 1: Blender's Sky Texture (Nishita) as Cycles draws it (export/sky.py), as the
+    background and as light."""
+    measured = {}
+
+    @classmethod
+    def tearDownClass(cls):
+        print("sky: " + ", ".join(f"{k} {v}" for k, v in cls.measured.items()))
+
+    def test_the_sky_is_the_background_cycles_draws(self):
+        """A 96 x 64 view across the horizon, away from the sun (20 degrees up, Sun Rotation 30
+        degrees), strength 0.1, against Cycles at 64 samples: each pixel 3 degrees or more above the
+        horizon within 1.5 % of Cycles', each other pixel within 5 % of its own (sky: the horizon's
+        glow brightens 30 % a pixel, and Cycles' pixel is the mean of samples spread over it, ours
+        its centre) or 1 % of the view's mean (the ground, faded to black); the means within 0.5 %.
+        The map is made once per set of parameters and kept (the second look-up is the same
+        array)."""
+        scene = helpers.empty_scene(96, 64)
+        node = sky_world(scene, math.radians(20.0), math.radians(30.0))
+        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        camera.data.lens = 20.0
+        camera.rotation_euler = (math.radians(95.0), 0.0, math.radians(-150.0))
+        scene.collection.objects.link(camera)
+        scene.camera = camera
+        images = {}
+        for engine in ("SUBSPLAT", "CYCLES"):
+            scene.render.engine = engine
+            scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 64, False
+            scene.render.filter_size = 0.01  # the pixel centre, as SubSplat's one sample
+            images[engine] = helpers.render(scene, f"sky_background_{engine.lower()}")[..., :3]
+            helpers.write_png(f"sky_background_{engine.lower()}", images[engine])
+        ours, cycles = images["SUBSPLAT"], images["CYCLES"]
+        height, width = ours.shape[:2]
+        # The horizon's row in the view: the camera looks 5 degrees up, 16.2 mm of sensor high.
+        rows = ((np.arange(height) + 0.5) / height - 0.5) * 36.0 * height / width / 20.0
+        elevation = np.degrees(np.arctan(rows)) + 5.0  # at the view's middle column, and below it elsewhere
+        high = elevation > 3.0
+        relative = np.abs(ours - cycles) / np.maximum(cycles, 1e-6)
+        of_mean = np.abs(ours - cycles) / cycles.mean()
+        low = np.minimum(relative, of_mean)[~high]
+        means = ours.mean(axis=(0, 1)) / cycles.mean(axis=(0, 1))
+        self.measured["background"] = (f"3 degrees up and above: largest {relative[high].max():.4f}; lower: "
+                                       f"largest {low.max():.4f}; means {np.round(means, 4).tolist()}")
+        if relative[high].max() > 0.015 or low.max() > 0.05:
+            helpers.write_difference("sky_background", ours, cycles)
+        self.assertLess(relative[high].max(), 0.015)
+        self.assertLess(low.max(), 0.05)
+        np.testing.assert_allclose(means, 1.0, atol=0.005)
+        self.assertIs(sky.sky_map(node), sky.sky_map(node))
+
+    def test_the_sky_lights_and_shadows_as_in_cycles(self):
+        """The plane and box under a Nishita sky (sun 40 degrees up, towards -x), strength 0.1: the
+        sky's sun becomes one sun; the open plane's median radiance within 5 % of Cycles'; the box's
+        shadow where Cycles' is (compare_shadows). The map holds the sun disc's light exactly: its
+        irradiance on a surface facing the sun, from the disc's texels, is Blender's disc's
+        (its solid angle x the mean of its two limb colours x 0.8, the limb darkening's mean) within
+        0.1 %."""
+        warnings = []
+        scene, _ = plane_and_box(None)
+        lights = settings.world_lights(scene, warnings)
+        self.assertEqual([light.type for light in lights], ["WORLD", "SUN"])
+        self.assertTrue(any("Sky Texture lights the scene as 1 sun" in w for w in warnings), warnings)
+        # The disc's light in the map against Blender's disc: radiance from (bottom + top) / 2 at its
+        # centre to the limbs, limb darkening 1 - 0.6 (1 - sqrt(1 - r^2)) averaging 0.8 over it.
+        node = next(n for n in scene.world.node_tree.nodes if n.type == "TEX_SKY")
+        rgb = sky.sky_map(node)
+        lat_edges = (np.arange(rgb.shape[0] + 1) / rgb.shape[0] - 0.5) * np.pi
+        u_edges = np.arange(rgb.shape[1] + 1) / rgb.shape[1]
+        table = sky.sky_table(node.sun_elevation, sky.MIN_ALTITUDE, 1.0, 1.0, 1.0)
+        disc = rgb - sky._sky_grid(table, lat_edges, u_edges, node.sun_rotation)
+        _, moments = environment.texels(lat_edges, u_edges)
+        towards = np.array([-math.cos(node.sun_elevation), 0.0, math.sin(node.sun_elevation)])
+        carried = np.einsum("ijc,ij->c", disc.astype(np.float64), moments @ towards)
+        bottom, top = sky.sun_colours(node.sun_elevation, node.sun_size, sky.MIN_ALTITUDE, 1.0, 1.0)
+        solid_angle = 2.0 * math.pi * (1.0 - math.cos(0.5 * node.sun_size))
+        blender = 0.8 * solid_angle * sky.XYZ_TO_RGB @ (0.5 * (bottom + top)) * node.sun_intensity
+        self.measured["disc"] = f"{np.round(carried / blender, 5).tolist()} of Blender's disc"
+        np.testing.assert_allclose(carried, blender, rtol=0.001)
+        masks, levels = self.compare_shadows("sky", rgb=None)
+        self.measured["open plane"] = f"{levels['SUBSPLAT']:.4f} / Cycles {levels['CYCLES']:.4f}"
+        self.assertAlmostEqual(levels["SUBSPLAT"] / levels["CYCLES"], 1.0, delta=0.05)
+
+    def test_a_sky_model_it_does_not_draw_is_named(self):
+        """A Sky Texture of another model (Preetham; in Blender 5, Single and Multiple Scattering) is
+        named in a warning, and the world lights the scene with the Background's own colour."""
+        scene = helpers.empty_scene(16, 16)
+        node = sky_world(scene, strength=1.0)
+        node.sky_type = "PREETHAM" if bpy.app.version < (5, 0, 0) else "SINGLE_SCATTERING"
+        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.3, 0.4, 1.0)
+        warnings = []
+        lights = settings.world_lights(scene, warnings)
+        self.assertTrue(any("its Sky Texture is the" in w and "which SubSplat does not draw" in w for w in warnings),
+                        warnings)
+        self.assertEqual([light.type for light in lights], ["WORLD"])
+        np.testing.assert_allclose(lights[0].color, (0.2, 0.3, 0.4), rtol=1e-6)
+
+    compare_shadows = EnvironmentLightsLikeCycles.compare_shadows
 
 
 if __name__ == "__main__":

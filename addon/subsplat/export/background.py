@@ -1,4 +1,4 @@
-"""The world's Environment Texture as the image's background (data.Environment, C API
+"""The world's Environment Texture (or Sky Texture, export/sky.py) as the image's background (data.Environment, C API
 ssSetEnvironment; docs/WORLD.md): the map itself where the camera sees no object, turned as the
 world's Mapping node turns it, times the Background's strength. Its light is the lights' business
 (export/settings.py); this is only what the camera sees of it."""
@@ -7,7 +7,7 @@ import collections
 import numpy as np
 
 from .. import native, principled
-from . import environment as environment_light, settings, textures
+from . import environment as environment_light, settings, sky, textures
 from .data import Environment, ExportError
 
 # Native images of environment maps made so far: image.name_full -> (key, native.Image), at most
@@ -37,6 +37,21 @@ def _native_map(world, image):
     return cached[1]
 
 
+def _native_sky(world, node):
+    key = sky.key(node)
+    cached = _maps.get(key)
+    if cached is None:
+        try:
+            rgb = np.clip(sky.sky_map(node), 0.0, MAX_RADIANCE)
+            cached = _maps[key] = (key, native.Image(rgb))
+        except native.SubsplatError as error:
+            raise ExportError(f"world '{world.name}': its Sky Texture: {error}") from None
+    _maps.move_to_end(key)
+    while len(_maps) > MAX_MAPS:
+        _maps.popitem(last=False)
+    return cached[1]
+
+
 def environment(scene, warnings):
     """The world's equirectangular Environment Texture into its Background's Color as the background
     (data.Environment), or None: no world, film transparent, no such texture."""
@@ -47,10 +62,13 @@ def environment(scene, warnings):
     if node is None:
         return None
     source = textures.linked(node.inputs["Color"])
-    if source is None or source[0].type != "TEX_ENVIRONMENT" or source[0].image is None:
+    if source is not None and sky.is_drawn(source[0]):
+        texture, image = source[0], _native_sky(world, source[0])
+    elif source is None or source[0].type != "TEX_ENVIRONMENT" or source[0].image is None:
         return None
-    texture = source[0]
-    if texture.projection != "EQUIRECTANGULAR":
+    else:
+        texture, image = source[0], None
+    if texture.type == "TEX_ENVIRONMENT" and texture.projection != "EQUIRECTANGULAR":
         warnings.append(f"world '{world.name}': its Environment Texture is a {texture.projection.lower()} "
                         "projection; SubSplat draws equirectangular maps only, and shows the world's mean colour")
         return None
@@ -61,6 +79,6 @@ def environment(scene, warnings):
     # does not read: said once, there).
     rotation = environment_light.texture_lookup(texture, f"world '{world.name}'", [])
     rotation = np.eye(3) if rotation is None else rotation
-    return Environment(image=_native_map(world, texture.image),
+    return Environment(image=image if image is not None else _native_map(world, texture.image),
                        rotation=tuple(float(v) for v in rotation.T.ravel()),  # column-major
                        strength=float(strength.default_value))

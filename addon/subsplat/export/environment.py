@@ -264,9 +264,20 @@ def image_decomposition(image, lookup=None):
     if key is None:  # a painted image: its pixels decide
         pixels = principled.image_pixels(image)
         key = ("dirty", pixels.shape, hash(pixels.tobytes()))
-    grid = _kept(_maps, key, lambda: average_down(principled.image_rgb(image, True, pixels=pixels)))
+    return map_decomposition(key, lambda: principled.image_rgb(image, True, pixels=pixels), lookup)
+
+
+def map_decomposition(key, rgb, lookup=None):
+    """decompose() of the map that rgb() makes (an image's pixels, a sky), looked up by `lookup`,
+    kept per key and lookup; the averaged-down map is kept per key."""
+    grid = averaged_map(key, rgb)
     lookup_key = None if lookup is None else tuple(round(float(x), 6) for x in np.asarray(lookup).ravel())
     return _kept(_decompositions, (key, lookup_key), lambda: decompose_grid(*grid, lookup=lookup))
+
+
+def averaged_map(key, rgb):
+    """average_down(rgb()), kept per key."""
+    return _kept(_maps, key, lambda: average_down(rgb()))
 
 
 def _euler_matrix(rotation):

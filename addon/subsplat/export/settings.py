@@ -2,7 +2,7 @@
 import numpy as np
 
 from .. import principled, version
-from . import environment, lights
+from . import environment, lights, sky
 from .data import Light, Settings
 
 # The C API reads 0 as "the default" (8); a user's 0 is eq. 17 without that weight, sent as a tiny
@@ -114,6 +114,14 @@ def _world_radiance(world, warnings, textures=None):
         if not socket.is_linked:
             continue
         source = socket.links[0].from_node
+        if socket is colour and source.type == "TEX_SKY":
+            if sky.is_drawn(source):
+                above, below = sky.means(source)
+                if textures is not None:
+                    textures.append(source)
+                continue
+            warnings.append(sky.not_drawn(source, f"world '{world.name}'"))
+            continue
         if socket is colour and source.type == "TEX_ENVIRONMENT" and source.image is not None:
             try:
                 above, below = environment_mean(source.image)
@@ -162,14 +170,20 @@ def world_lights(scene, warnings):
     suns = []
     if textures:
         texture = textures[0]
-        where = f"world '{world.name}': its Environment Texture '{texture.image.name}'"
-        if texture.projection != "EQUIRECTANGULAR":
+        if texture.type == "TEX_SKY":
+            where = f"world '{world.name}': its Sky Texture"
+        else:
+            where = f"world '{world.name}': its Environment Texture '{texture.image.name}'"
+        if texture.type == "TEX_ENVIRONMENT" and texture.projection != "EQUIRECTANGULAR":
             warnings.append(f"{where} has the {texture.projection.replace('_', ' ').title()} projection, which "
                             "SubSplat does not read: the image lights the scene with its mean radiance above its "
                             "middle row and below it, as an equirectangular map's (docs/WORLD.md)")
         else:
             lookup = environment.texture_lookup(texture, where, warnings)
-            decomposition = environment.image_decomposition(texture.image, lookup)
+            if texture.type == "TEX_SKY":
+                decomposition = environment.map_decomposition(sky.key(texture), lambda: sky.sky_map(texture), lookup)
+            else:
+                decomposition = environment.image_decomposition(texture.image, lookup)
             rgb, below = decomposition.above, decomposition.below
             if power > 0.0:
                 suns = [lights.environment_sun(sun, power) for sun in decomposition.suns]
