@@ -325,7 +325,8 @@ def texture_lookup(texture, where, warnings):
     nodes are said in warnings and taken as the direction."""
     from . import textures
     matrix = np.eye(3)
-    source = textures.linked(texture.inputs["Vector"])
+    vector = texture.inputs.get("Vector")  # an evaluated Sky Texture in 4.5 can lack it: unlinked
+    source = None if vector is None else textures.linked(vector)
     while source is not None:
         node, output = source
         if node.type == "TEX_COORD" and output.name in ("Generated", "Object"):
@@ -340,5 +341,6 @@ def texture_lookup(texture, where, warnings):
                             "world's direction)")
             break
         matrix = matrix @ _mapping_matrix(node, where, warnings)  # the texture reads M1 (M2 (... d))
-        source = textures.linked(node.inputs["Vector"])
+        vector = node.inputs.get("Vector")
+        source = None if vector is None else textures.linked(vector)
     return None if np.allclose(matrix, np.eye(3), atol=1e-9) else matrix
