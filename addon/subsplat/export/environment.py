@@ -325,7 +325,7 @@ def texture_lookup(texture, where, warnings):
     nodes are said in warnings and taken as the direction."""
     from . import textures
     matrix = np.eye(3)
-    vector = texture.inputs.get("Vector")  # an evaluated Sky Texture in 4.5 can lack it: unlinked
+    vector = texture.inputs.get("Vector")  # get: Blender 4.5 refused inputs["Vector"] of a Sky Texture in a render
     source = None if vector is None else textures.linked(vector)
     while source is not None:
         node, output = source
