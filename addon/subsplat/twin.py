@@ -16,7 +16,7 @@ import bpy
 import numpy as np
 
 from . import principled, version
-from .export import materials
+from .export import data, materials, textures
 
 SUFFIX = " Cycles Twin"
 MARK = "subsplat_twin_of"  # custom property on the twin scene and its object copies: the original's name
@@ -229,6 +229,62 @@ def set_cycles_for_convergence(scene):
     scene.view_settings.view_transform = "Standard"
 
 
+def _tint(material, twin_material, reports):
+    """A translucent material's tint (an Image Texture into its Principled BSDF's Base Color, when its
+    source is not the BSDF; docs/TEXTURES.md) on the twin's boundary: the boundary BSDF's colour is
+    sqrt(T) of the same image, read at the same UV map and transform, so that light crossing it in
+    and out carries sqrt(T) each way, SubSplat's model. Through a Glass boundary (eta > 1) the light
+    reflected inside meets the tint again: said in the reports."""
+    if material.subsplat.source == "PRINCIPLED":
+        return
+    node = materials.principled_node(material)
+    if node is None:
+        return
+    source = textures.linked(node.inputs["Base Color"])
+    if source is None or source[0].type != "TEX_IMAGE" or source[0].image is None or source[0].mute:
+        return
+    image_node = source[0]
+    try:
+        transform, uv_map = textures.uv_source(material, image_node, None)
+    except textures.Unread as unread:
+        reports.append(("WARNING", f"material '{material.name}': its tint is not carried to the twin ({unread.reason})"))
+        return
+    if all(v == 0.0 for v in transform):
+        transform = data.IDENTITY_UV
+    tree = twin_material.node_tree
+    boundary = next(n for n in tree.nodes if n.type in ("BSDF_TRANSPARENT", "BSDF_GLASS"))
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = uv_map or ""
+    split = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(uv.outputs["UV"], split.inputs[0])
+    combine = tree.nodes.new("ShaderNodeCombineXYZ")
+    for row, axis in ((transform[0:3], "X"), (transform[3:6], "Y")):  # a u + b v + c
+        inner = tree.nodes.new("ShaderNodeMath")
+        inner.operation = "MULTIPLY_ADD"
+        tree.links.new(split.outputs["Y"], inner.inputs[0])
+        inner.inputs[1].default_value, inner.inputs[2].default_value = row[1], row[2]
+        outer = tree.nodes.new("ShaderNodeMath")
+        outer.operation = "MULTIPLY_ADD"
+        tree.links.new(split.outputs["X"], outer.inputs[0])
+        outer.inputs[1].default_value = row[0]
+        tree.links.new(inner.outputs[0], outer.inputs[2])
+        tree.links.new(outer.outputs[0], combine.inputs[axis])
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image, image.extension = image_node.image, image_node.extension
+    image.interpolation = image_node.interpolation
+    tree.links.new(combine.outputs[0], image.inputs["Vector"])
+    root = tree.nodes.new("ShaderNodeGamma")  # T^0.5 per channel
+    root.inputs["Gamma"].default_value = 0.5
+    tree.links.new(image.outputs["Color"], root.inputs["Color"])
+    tree.links.new(root.outputs["Color"], boundary.inputs["Color"])
+    reports.append(("INFO", f"material '{material.name}': its tint '{image_node.image.name}' is the boundary's "
+                            "colour, its square root each way in and out"))
+    if boundary.type == "BSDF_GLASS":
+        reports.append(("WARNING", f"material '{material.name}': its tint is on a Glass boundary (eta > 1), which "
+                                   "also tints the light it reflects inside, where SubSplat's tint counts once in "
+                                   "and once out"))
+
+
 def make_cycles_twin(scene, view_layer=None):
     """Makes (or makes again) the scene "<scene.name> Cycles Twin"; returns (twin scene, reports), the
     reports a list of ("INFO" or "WARNING", text). The original scene is not changed. Raises
@@ -281,6 +337,7 @@ def make_cycles_twin(scene, view_layer=None):
                                     f"({', '.join(f'{v:.5g}' for v in sigma_a)}) per unit, {boundary}"))
             made["subsplat_medium"] = {"sigma_a": [float(v) for v in sigma_a],
                                        "sigma_s": [float(v) for v in sigma_s], "eta": float(settings.eta)}
+            _tint(material, made, reports)
         made[MARK] = material.name
         twin_materials[material.name_full] = made
         return made

@@ -300,9 +300,20 @@ class Conventions(unittest.TestCase):
     (1 - colour) x density, per unit: the light that crosses the slab without scattering is
     exp(-sigma_t D) per channel, with sigma_t computed here from the material's coefficients."""
 
-    def transmittance(self, name, sigma_a_mm, sigma_s_mm, volume_bounces, samples):
+    def transmittance(self, name, sigma_a_mm, sigma_s_mm, volume_bounces, samples, tint=None):
         scene, slab = pencil_scene(sigma_a_mm, sigma_s_mm)
-        result, _reports = twin.make_cycles_twin(scene)
+        if tint is not None:  # a uniform tint image into the medium's Base Color
+            medium = slab.data.materials[0]
+            medium.use_nodes = True
+            image = bpy.data.images.new("Tint", 4, 4, float_buffer=True)
+            image.pixels.foreach_set(np.tile([*tint, 1.0], 16).astype(np.float32))
+            texture = medium.node_tree.nodes.new("ShaderNodeTexImage")
+            texture.image = image
+            bsdf = next(n for n in medium.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+            medium.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+        result, reports = twin.make_cycles_twin(scene)
+        if tint is not None:
+            self.assertTrue(any("its tint 'Tint' is the boundary's colour" in text for _, text in reports), reports)
         result.render.resolution_x = result.render.resolution_y = 4
         result.cycles.samples = samples
         result.cycles.device = "CPU"
@@ -312,6 +323,8 @@ class Conventions(unittest.TestCase):
         bare = render(result, f"slab_{name}_bare")
         measured = through[..., :3].mean(axis=(0, 1)) / bare[..., :3].mean(axis=(0, 1))
         expected = np.exp(-(np.array(sigma_a_mm) + np.array(sigma_s_mm)) * MM_PER_UNIT * D)
+        if tint is not None:
+            expected = expected * np.array(tint)  # sqrt(T) in, sqrt(T) out
         print(f"{name}: transmittance {np.round(measured, 5)}, exp(-sigma_t d) {np.round(expected, 5)}, "
               f"ratio {np.round(measured / expected, 4)}")
         np.testing.assert_allclose(measured, expected, rtol=0.02)
@@ -324,6 +337,13 @@ class Conventions(unittest.TestCase):
 
     def test_absorption_only(self):
         self.transmittance("absorb", SIGMA_MM, (0, 0, 0), volume_bounces=1024, samples=16)
+
+    def test_a_tint_is_its_square_root_in_and_out(self):
+        """Issue 20, item 7: a translucent material's tint (an image into Base Color, docs/TEXTURES.md)
+        on the twin's boundary: the light that crosses the slab carries T, sqrt(T) where it enters
+        and sqrt(T) where it leaves, as in SubSplat."""
+        self.transmittance("absorb_tinted", SIGMA_MM, (0, 0, 0), volume_bounces=1024, samples=16,
+                           tint=(1.0, 0.5, 0.25))
 
     def test_scattering_only_thin_pencil_all_bounces(self):
         # The twin's own settings (1024 volume bounces): the light scattered out of a thin pencil from a
