@@ -12,7 +12,9 @@ own (summed over its texels):
   azimuths, facing 8 ways; and under an overhang that hides the sky within 30 or 60 degrees of the
   zenith.
 The suns are shadowed as discs of their diameter; the remainder as the library draws it: unshadowed
-when its share of the light is under 10 %, else by the visibility of its two halves (docs/WORLD.md).
+when its share of the light is under 10 %, else by the visibility of its harmonics' radiance
+(clamped at 0, each half scaled as world_light.cpp scales its directions; docs/WORLD.md); the test maps also print the
+error with the remainder as its two halves (the library before API 17).
 Each error is relative to the map's irradiance on the same surface in the open sky; a map's error
 is their root mean square.
 
@@ -20,6 +22,7 @@ The grid: every combination of BRIGHT_FACTOR, SPLIT_ANGLE, SPLIT_SHARE below. Ch
 suns (mean over the calibration maps) among the combinations whose mean error is within 25 % of the
 grid's least."""
 import argparse
+import dataclasses
 import importlib.util
 import itertools
 import math
@@ -158,7 +161,9 @@ class Evaluation:
         d = environment.centres(lat_edges, u_edges)
         self.cases = visibilities(d)
         luminance = values @ environment.LUMINANCE
-        self.exact, self.open, self.halves = [], [], []
+        self.exact, self.open, self.halves, self.seen = [], [], [], []
+        self.directions, self.solid_angle = d, environment.texels(lat_edges, u_edges)[0]
+        self.basis = environment.sh_basis(d)
         open_of = {}
         for name, n, visible in self.cases:
             cosine = np.maximum(moments @ n, 0.0)
@@ -170,6 +175,22 @@ class Evaluation:
             above = d[..., 2] >= 0
             self.halves.append((float((cosine * v * above).sum()), float((cosine * v * ~above).sum()),
                                 float((cosine * above).sum()), float((cosine * ~above).sum())))
+            self.seen.append(cosine * v)
+
+    def harmonics_remainder(self, decomposition):
+        """The rest's luminance per texel as the library draws it shadowed (world_light.cpp): the
+        harmonics' radiance, clamped at 0, each half scaled (within [1/2, 2]) so that a surface
+        facing up (down) gets the harmonics' irradiance."""
+        lum = environment.LUMINANCE
+        harmonics = np.asarray(decomposition.harmonics)
+        radiance = np.maximum(self.basis @ (harmonics @ lum), 0.0)
+        z = self.directions[..., 2]
+        for half, normal in ((z >= 0, (0, 0, 1)), (z < 0, (0, 0, -1))):
+            target = float(np.dot(environment.harmonics_irradiance(harmonics, normal), lum))
+            got = float((radiance * np.abs(z) * self.solid_angle)[half].sum())
+            if got > 0 and target > 0:
+                radiance[half] *= min(max(target / got, 0.5), 2.0)
+        return radiance
 
     def error(self, decomposition):
         """The root mean square of the relative errors over the test surfaces."""
@@ -177,15 +198,22 @@ class Evaluation:
         above, below = float(np.dot(decomposition.above, lum)), float(np.dot(decomposition.below, lum))
         sun_light = sum(float(np.dot(s.irradiance, lum)) for s in decomposition.suns)
         shadowed_remainder = math.pi * above >= 0.1 * (math.pi * above + sun_light)
+        harmonics = bool(decomposition.harmonics)
+        rest = self.harmonics_remainder(decomposition) if harmonics and shadowed_remainder else None
         errors = []
-        for (name, n, visible), exact, open_, (va, vb, oa, ob) in zip(self.cases, self.exact, self.open, self.halves):
+        for (name, n, visible), exact, open_, (va, vb, oa, ob), weights in zip(self.cases, self.exact, self.open,
+                                                                               self.halves, self.seen):
             model = 0.0
             for sun in decomposition.suns:
                 cosine = max(float(np.dot(n, sun.direction)), 0.0)
                 if cosine > 0:
                     seen = float(visible(disc_points(sun.direction, sun.angle)).mean())
                     model += float(np.dot(sun.irradiance, lum)) * cosine * seen
-            if shadowed_remainder:
+            if harmonics and shadowed_remainder:
+                model += float((rest * weights).sum())
+            elif harmonics:
+                model += float(np.dot(environment.harmonics_irradiance(decomposition.harmonics, n), lum))
+            elif shadowed_remainder:
                 model += above * va + below * vb
             else:
                 model += above * oa + below * ob
@@ -218,7 +246,7 @@ def calibrate():
     evaluations = [Evaluation(generate(seed)) for seed in CALIBRATION]
     no_suns = [e.error(environment.decompose_grid(*e.grid, bright_factor=math.inf)) for e in evaluations]
     print(f"calibration maps {CALIBRATION} ({', '.join(KINDS[s % 5] for s in CALIBRATION)}): "
-          f"error with no suns (two hemisphere means): {np.mean(no_suns):.4f}")
+          f"error with no suns (the map as harmonics): {np.mean(no_suns):.4f}")
     results = []
     for constants in grid():
         errors, suns = measure(evaluations, constants)
@@ -242,8 +270,9 @@ def test(constants):
         evaluation = Evaluation(rgb)
         decomposition = environment.decompose_grid(*evaluation.grid, **constants)
         none = evaluation.error(environment.decompose_grid(*evaluation.grid, bright_factor=math.inf))
+        halves = evaluation.error(dataclasses.replace(decomposition, harmonics=()))
         print(f"  {name}: {len(decomposition.suns)} suns taking {decomposition.sun_share:.0%} of the light; error "
-              f"{evaluation.error(decomposition):.4f} (no suns: {none:.4f})")
+              f"{evaluation.error(decomposition):.4f} (the rest as two halves: {halves:.4f}; no suns: {none:.4f})")
 
 
 def timing():

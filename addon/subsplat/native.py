@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 16  # SS_API_VERSION of subsplat.h
+API_VERSION = 17  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -117,7 +117,7 @@ class LightDesc(ctypes.Structure):
                 ("position", Float3), ("direction", Float3), ("spot_size", ctypes.c_float),
                 ("spot_blend", ctypes.c_float), ("world_directions", ctypes.c_int32), ("area_shape", ctypes.c_int32),
                 ("area_axis", Float3), ("area_size", ctypes.c_float * 2), ("soft_size", ctypes.c_float),
-                ("world_below", Float3)]
+                ("world_below", Float3), ("world_sh", ctypes.c_float * 27)]
 
 
 class CameraDesc(ctypes.Structure):
@@ -411,6 +411,8 @@ def _light_desc(light):
     desc.area_size = (ctypes.c_float * 2)(*light.area_size)
     desc.soft_size = light.soft_size
     desc.world_below = Float3(*light.world_below)
+    if light.world_sh:
+        desc.world_sh = (ctypes.c_float * 27)(*light.world_sh)
     return desc
 
 

@@ -114,6 +114,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     floats(in, lights[i].area_axis, 3);
     floats(in, lights[i].area_size, 2);
     floats(in, &lights[i].soft_size, 1);
+    if (in.ConsumeBool()) floats(in, lights[i].world_below, 3);
+    if (in.ConsumeBool()) floats(in, lights[i].world_sh, 27);  // a world's harmonics (API 17)
   }
   ssSetLights(context, lightCount ? lights : nullptr, lightCount);
   SsCameraDesc camera{};

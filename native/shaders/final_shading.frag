@@ -25,15 +25,26 @@ vec3 environmentRadiance() {
   vec2 uv = vec2(0.5 - atan(d.y, d.x) / (2.0 * PI), atan(d.z, length(d.xy)) / PI + 0.5);
   return environmentStrength * textureLod(environmentMap, uv, 0.0).rgb;
 }
-// The world (world_light.h): its radiance above and below the horizon, for its specular
-// reflection, and whether it also lights every surface unshadowed (not drawn as directions).
+// The world (world_light.h): its radiance above and below the horizon, or its irradiance as
+// spherical harmonics, for its specular reflection, and whether it also lights every surface
+// unshadowed (not drawn as directions).
 uniform vec3 worldAbove;
 uniform vec3 worldBelow;
+uniform int worldHarmonics;
+uniform vec3 worldIrradiance[9];  // E(n) / pi, world_light.h: RenderLights
 uniform int worldUnshadowed;
-// world_light.cpp: worldHemisphereMix.
-vec3 worldMix(float z) {
-  float up = 0.5 * (1.0 + clamp(z, -1.0, 1.0));
-  return up * worldAbove + (1.0 - up) * worldBelow;
+// world_light.cpp: worldRemainder, E(n = d) / pi.
+vec3 worldMix(vec3 d) {
+  if (worldHarmonics == 0) {
+    float up = 0.5 * (1.0 + clamp(d.z, -1.0, 1.0));
+    return up * worldAbove + (1.0 - up) * worldBelow;
+  }
+  vec3 e = worldIrradiance[0] * 0.28209479 + worldIrradiance[1] * (0.48860251 * d.y) +
+           worldIrradiance[2] * (0.48860251 * d.z) + worldIrradiance[3] * (0.48860251 * d.x) +
+           worldIrradiance[4] * (1.09254843 * d.x * d.y) + worldIrradiance[5] * (1.09254843 * d.y * d.z) +
+           worldIrradiance[6] * (0.31539157 * (3.0 * d.z * d.z - 1.0)) + worldIrradiance[7] * (1.09254843 * d.x * d.z) +
+           worldIrradiance[8] * (0.54627422 * (d.x * d.x - d.y * d.y));
+  return max(e, vec3(0.0));
 }
 // The GGX lobe's directional albedo (world_light.cpp: specularAlbedo, Karis 2014).
 float specularAlbedo(float roughness, float specular, float cosView) {
@@ -59,8 +70,8 @@ void main() {
   vec3 n = normalize(texelFetch(splattingShadingNormal, pixel, 0).xyz);  // the normal map's, if any
   vec3 tint = texelFetch(splattingAlbedo, pixel, 0).rgb;
   float mu = max(dot(n, V), 0.0);
-  L += worldMix(reflect(-V, n).z) * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
-  vec3 ambient = worldUnshadowed != 0 ? worldMix(n.z) : vec3(0.0);
+  L += worldMix(reflect(-V, n)) * specularAlbedo(materials[m].optics.y, materials[m].optics.z, mu);
+  vec3 ambient = worldUnshadowed != 0 ? worldMix(n) : vec3(0.0);
   if (!isTranslucent(m)) L += ambient * materials[m].baseColorKind.rgb * tint;
   if (isTranslucent(m)) {  // the tint: sqrt(T) where the light entered (irradiance_buffer.frag), sqrt(T) here
     float ft = fresnelTransmittance(materials[m].optics.x, mu);

@@ -244,6 +244,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsLightDesc, area_size),
     SS_FIELD(SsLightDesc, soft_size),
     SS_FIELD(SsLightDesc, world_below),
+    SS_FIELD(SsLightDesc, world_sh),
     SS_STRUCT(SsCameraDesc),
     SS_FIELD(SsCameraDesc, world_to_view),
     SS_FIELD(SsCameraDesc, view_to_clip),

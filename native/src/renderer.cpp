@@ -274,7 +274,7 @@ void Renderer::render(int width, int height, float* rgba) {
   float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
   shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background, environment,
-                        lights.worldRadiance, lights.worldBelow, lights.unshadowed, samples > 1 ? weight : 1.0f, true);
+                        lights, samples > 1 ? weight : 1.0f, true);
   profiler.end();
 
   if (samples > 1) {
@@ -313,8 +313,7 @@ void Renderer::render(int width, int height, float* rgba) {
       exitance = splats_.exitance();  // no translucent pixel reads it
     }
     shading_.finalShading(scene_, sampleBuffer_, exitance, kernels.transport, settings_.background, environment,
-                          lights.worldRadiance,
-                          lights.worldBelow, lights.unshadowed, weight, false);
+                          lights, weight, false);
     profiler.end();
   }
   scene_.setCamera(camera);

@@ -218,6 +218,11 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
     if (l.type == SS_LIGHT_WORLD) {
       require(finite(l.world_below, 3) && l.world_below[0] >= 0 && l.world_below[1] >= 0 && l.world_below[2] >= 0,
               name + ": the world's radiance below the horizon must be finite and non-negative");
+      require(finite(l.world_sh, 27), name + ": the world's spherical harmonics must be finite");
+      require(l.world_sh[0] >= 0 && l.world_sh[1] >= 0 && l.world_sh[2] >= 0,
+              name + ": the world's spherical harmonics' first coefficient (its mean radiance) must be non-negative");
+      for (float v : l.world_sh)
+        require(std::abs(v) <= 1e6f, name + ": the world's spherical harmonics must be within 1e6, got " + std::to_string(v));
       require(++worlds == 1, name + ": a second world light (at most one)");
       require(l.world_directions >= -1 && l.world_directions <= kMaxWorldDirections,
               name + ": world directions must be -1 (unshadowed), 0 (automatic) or in [1, " +

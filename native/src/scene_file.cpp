@@ -18,12 +18,13 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 6;
+constexpr uint32_t kFormatVersion = 7;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
 // and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
 // light record (no world_directions and area fields: there were no world and area lights); formats
 // 2 to 4 a shorter settings record (no anti-aliasing fields: one sample at the pixel's centre);
-// formats 1 to 5 have no textures in the material record.
+// formats 1 to 5 have no textures in the material record; formats 4 to 6 a shorter light record (no
+// world_sh: a world of two halves).
 constexpr uint32_t kOldestFormatVersion = 1;
 constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6, kEnvironment = 7 };
@@ -36,11 +37,12 @@ constexpr uint32_t kMeshHasUvs = 1;
 // textures (each: present, and if so its transform, modes, size and texels) and the normal strength.
 constexpr size_t kMaterialBytes = 15 * 4;
 constexpr size_t kMaterialBytesV2 = 14 * 4;
-constexpr size_t kLightBytes = 24 * 4, kLightBytesV3 = 13 * 4;
+constexpr size_t kLightBytes = 51 * 4, kLightBytesV6 = 24 * 4, kLightBytesV3 = 13 * 4;
 static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profile_model) == kMaterialBytesV2 &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&
                   offsetof(SsLightDesc, world_directions) == kLightBytesV3 &&
+                  offsetof(SsLightDesc, world_sh) == kLightBytesV6 &&
                   sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 19 * 4 &&
                   offsetof(SsSettings, target_error) == kSettingsBytesV1 &&
                   offsetof(SsSettings, samples) == kSettingsBytesV4,
@@ -229,7 +231,7 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
       case kLights: {
         uint32_t count = r.get<uint32_t>();
         std::vector<SsLightDesc> lights(count, SsLightDesc{});
-        size_t bytes = version >= 4 ? kLightBytes : kLightBytesV3;
+        size_t bytes = version >= 7 ? kLightBytes : version >= 4 ? kLightBytesV6 : kLightBytesV3;
         require(count <= r.remaining() / bytes, r.what() + ": truncated (" + std::to_string(count) + " lights announced)");
         for (SsLightDesc& light : lights) {
           std::vector<char> record = r.getArray<char>(bytes);

@@ -59,6 +59,13 @@ class SceneFile : public ::testing::Test {
       std::memcpy(&size, &bytes[at + 8], 8);
       std::vector<char> payload(bytes.begin() + std::ptrdiff_t(at + 16), bytes.begin() + std::ptrdiff_t(at + 16 + size));
       if (tag == 1 && version < 6) payload.resize(payload.size() - 12);
+      if (tag == 3 && version < 7) {  // lights without world_sh
+        uint32_t count;
+        std::memcpy(&count, payload.data(), 4);
+        for (uint32_t i = count; i-- > 0;)
+          erase(payload, 4 + i * sizeof(SsLightDesc) + offsetof(SsLightDesc, world_sh),
+                sizeof(SsLightDesc) - offsetof(SsLightDesc, world_sh));
+      }
       settings += tag == 5;
       edit(tag, payload);
       uint64_t shorter = payload.size();
@@ -213,12 +220,13 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
   int found = rewriteAs(1, [](uint32_t tag, std::vector<char>& payload) {
     if (tag == 1)  // a material: drop profile_model, the last field before the profile set
       erase(payload, 4 + offsetof(SsMaterialDesc, profile_model), 4);
-    if (tag == 3) {  // lights: drop the fields from world_directions on, the last of each
+    if (tag == 3) {  // lights (rewriteAs left them up to world_sh): drop the fields from world_directions on
       uint32_t count;
       std::memcpy(&count, payload.data(), 4);
-      ASSERT_EQ(payload.size(), 4 + count * sizeof(SsLightDesc));
-      size_t added = sizeof(SsLightDesc) - offsetof(SsLightDesc, world_directions);
-      for (uint32_t i = count; i-- > 0;) erase(payload, 4 + (i + 1) * sizeof(SsLightDesc) - added, added);
+      size_t record = offsetof(SsLightDesc, world_sh);
+      ASSERT_EQ(payload.size(), 4 + count * record);
+      size_t added = record - offsetof(SsLightDesc, world_directions);
+      for (uint32_t i = count; i-- > 0;) erase(payload, 4 + (i + 1) * record - added, added);
     }
     if (tag == 5) {  // settings: drop the fields from target_error on
       ASSERT_EQ(payload.size(), sizeof(SsSettings));

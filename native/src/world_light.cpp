@@ -15,7 +15,28 @@ namespace {
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
+bool hasHarmonics(const SsLightDesc& l) {
+  for (float v : l.world_sh)
+    if (v != 0.0f) return true;
+  return false;
+}
+
 }  // namespace
+
+std::array<float, 9> sphericalHarmonics(const glm::vec3& d) {
+  float x = d.x, y = d.y, z = d.z;
+  return {0.28209479f,          0.48860251f * y,           0.48860251f * z,
+          0.48860251f * x,      1.09254843f * x * y,       1.09254843f * y * z,
+          0.31539157f * (3.0f * z * z - 1.0f), 1.09254843f * x * z, 0.54627422f * (x * x - y * y)};
+}
+
+glm::vec3 worldRemainder(const RenderLights& lights, const glm::vec3& d) {
+  if (!lights.worldHarmonics) return worldHemisphereMix(lights.worldRadiance, lights.worldBelow, d.z);
+  std::array<float, 9> y = sphericalHarmonics(d);
+  glm::vec3 e(0.0f);
+  for (int i = 0; i < 9; ++i) e += lights.worldIrradiance[size_t(i)] * y[size_t(i)];
+  return glm::max(e, glm::vec3(0.0f));
+}
 
 std::vector<glm::vec3> worldDirections(int count) {
   std::vector<glm::vec3> directions;
@@ -31,7 +52,9 @@ int automaticWorldDirections(const std::vector<SsLightDesc>& lights, const Bound
   glm::vec3 centre = fit.empty() ? glm::vec3(0.0f) : fit.center();
   double world = 0.0, others = 0.0;
   for (const SsLightDesc& l : lights) {
-    if (l.type == SS_LIGHT_WORLD)
+    if (l.type == SS_LIGHT_WORLD && hasHarmonics(l))
+      world += M_PI * luminance(glm::make_vec3(l.world_sh) * 0.28209479f);  // the mean radiance
+    else if (l.type == SS_LIGHT_WORLD)
       world += M_PI * luminance(0.5f * (glm::make_vec3(l.color) * l.strength + glm::make_vec3(l.world_below)));
     else
       others += luminance(sampleLight(l, centre).irradiance);
@@ -53,9 +76,22 @@ RenderLights renderLights(const Scene& scene) {
   }
   if (!world) return out;
   glm::vec3 radiance = glm::make_vec3(world->color) * world->strength, below = glm::make_vec3(world->world_below);
+  std::array<glm::vec3, 9> harmonics{};  // the radiance's coefficients
+  if (hasHarmonics(*world)) {
+    // A surface facing up or down under the harmonics stands for the two halves (the specular
+    // remainder's fallback and the K directions' scale below).
+    out.worldHarmonics = true;
+    const float band[9] = {1.0f, 2.0f / 3, 2.0f / 3, 2.0f / 3, 0.25f, 0.25f, 0.25f, 0.25f, 0.25f};
+    for (int i = 0; i < 9; ++i) {
+      harmonics[size_t(i)] = glm::make_vec3(world->world_sh + 3 * i);
+      out.worldIrradiance[size_t(i)] = harmonics[size_t(i)] * band[i];
+    }
+    radiance = worldRemainder(out, glm::vec3(0, 0, 1));
+    below = worldRemainder(out, glm::vec3(0, 0, -1));
+  }
   out.worldRadiance = radiance;
   out.worldBelow = below;
-  if (radiance == glm::vec3(0.0f) && below == glm::vec3(0.0f)) return out;
+  if (radiance == glm::vec3(0.0f) && below == glm::vec3(0.0f) && !out.worldHarmonics) return out;
   Bounds translucent = scene.bounds(true);
   int count = world->world_directions != 0
                   ? world->world_directions
@@ -65,10 +101,40 @@ RenderLights renderLights(const Scene& scene) {
     return out;
   }
   out.worldDirections = worldDirections(count);
+  // Each direction's radiance: the half's (two halves), or the harmonics' radiance there, clamped at
+  // 0. An unoccluded surface gets pi times the cosine-weighted mean of the directions it faces:
+  // exactly a half's for two halves. For harmonics, K directions come near the irradiance (for a
+  // radiance a + b . w the continuous mean is a + 2/3 b . n, theirs), and each half is scaled so
+  // that surfaces facing up and down get it exactly, as for two halves; the scale is kept within
+  // [1/2, 2], a guard for a half where the clamped radiance is nearly all cut.
+  std::vector<glm::vec3> colours;
+  glm::vec3 sums[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};
+  float cosines[2] = {0.0f, 0.0f};
   for (const glm::vec3& w : out.worldDirections) {
+    glm::vec3 l = w.z >= 0.0f ? radiance : below;
+    if (out.worldHarmonics) {
+      std::array<float, 9> y = sphericalHarmonics(w);
+      l = glm::vec3(0.0f);
+      for (int i = 0; i < 9; ++i) l += harmonics[size_t(i)] * y[size_t(i)];
+      l = glm::max(l, glm::vec3(0.0f));
+    }
+    colours.push_back(l);
+    int half = w.z >= 0.0f ? 0 : 1;
+    sums[half] += l * std::abs(w.z);
+    cosines[half] += std::abs(w.z);
+  }
+  glm::vec3 scale[2] = {glm::vec3(1.0f), glm::vec3(1.0f)};
+  for (int half = 0; out.worldHarmonics && half < 2; ++half)
+    for (int c = 0; c < 3; ++c) {
+      float target = half == 0 ? radiance[c] : below[c];                      // E / pi facing up (down)
+      float got = cosines[half] > 0.0f ? sums[half][c] / cosines[half] : 0.0f;  // what the directions give
+      if (got > 0.0f && target > 0.0f) scale[half][c] = std::clamp(target / got, 0.5f, 2.0f);
+    }
+  for (size_t k = 0; k < out.worldDirections.size(); ++k) {
+    const glm::vec3& w = out.worldDirections[k];
+    glm::vec3 l = colours[k] * scale[w.z >= 0.0f ? 0 : 1];
     SsLightDesc sun{};
     sun.type = SS_LIGHT_SUN;
-    glm::vec3 l = w.z >= 0.0f ? radiance : below;
     for (int c = 0; c < 3; ++c) sun.color[c] = l[c], sun.direction[c] = -w[c];
     sun.strength = 1.0f;
     out.lights.push_back(sun);

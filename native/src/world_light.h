@@ -1,5 +1,5 @@
-// The world light (SS_LIGHT_WORLD, docs/WORLD.md): uniform radiance L from every direction, as the
-// renderers draw it. Either K shadowed directions w_k, each drawn as a sun whose irradiance on a
+// The world light (SS_LIGHT_WORLD, docs/WORLD.md): radiance L from every direction (uniform, two
+// halves, or spherical harmonics to order 2), as the renderers draw it. Either K shadowed directions w_k, each drawn as a sun whose irradiance on a
 // surface of normal n is
 //
 //     E_k(n) = L pi max(0, n . w_k) / D(n),   D(n) = sum_j max(0, n . w_j),
@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <vector>
 
 #include "scene.h"
@@ -31,7 +32,17 @@ struct RenderLights {
   glm::vec3 worldRadiance{0.0f};           // L above the horizon, for the specular remainder
   glm::vec3 worldBelow{0.0f};              // L below it
   bool unshadowed = false;                 // the world is drawn unshadowed (the remainder's diffuse too)
+  // A world given as spherical harmonics (SsLightDesc.world_sh): its irradiance over pi, E(n) / pi,
+  // as 9 RGB coefficients of the same basis (the radiance's times A_l / pi: 1, 2/3, 1/4).
+  bool worldHarmonics = false;
+  std::array<glm::vec3, 9> worldIrradiance{};
 };
+
+// The real spherical harmonics to order 2 at a unit direction (SsLightDesc.world_sh's basis).
+std::array<float, 9> sphericalHarmonics(const glm::vec3& d);
+// The world's remainder for a direction d: E(n = d) / pi, the irradiance over pi of a surface
+// facing d under the whole world: from the harmonics when given, else worldHemisphereMix.
+glm::vec3 worldRemainder(const RenderLights& lights, const glm::vec3& d);
 
 // The world's remainder for a direction of z component z: its radiance above the horizon and below
 // mixed by the share of the hemisphere around that direction that is above it, (1 + z) / 2: the

@@ -147,6 +147,44 @@ TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
   }
 }
 
+// A world given as spherical harmonics (API 17: an environment map's light after its suns),
+// L(w) = a + b w_z + c w_x: a surface facing up gets pi a + 2 pi b / 3 (the cosine lobe keeps 2/3 of
+// a linear term), one facing down pi a - 2 pi b / 3, whatever c; drawn unshadowed and in 16
+// directions, FULL and REFERENCE. With b = c = 0 it is the uniform world a.
+TEST_F(World, HarmonicsLightEachSideWithTheirIrradiance) {
+  SsMaterialDesc plane = testing::greyMaterial(0.5f);
+  ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
+  SsMeshDesc mesh = quad.desc(2.0f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
+  const float a = 0.5f;
+  for (auto [b, c] : {std::pair{0.0f, 0.0f}, std::pair{0.3f, 0.4f}}) {
+    SsLightDesc world{};
+    world.type = SS_LIGHT_WORLD;
+    for (int channel = 0; channel < 3; ++channel) {
+      world.world_sh[0 + channel] = a * 3.5449077f;  // a / Y_00
+      world.world_sh[6 + channel] = b * 2.0466534f;  // b / (Y_10 / z)
+      world.world_sh[9 + channel] = c * 2.0466534f;  // c / (Y_11 / x)
+    }
+    for (float facing : {1.0f, -1.0f}) {
+      SsCameraDesc camera = testing::topDownCamera(1.0f);
+      glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5 * facing), glm::vec3(0), glm::vec3(0, 1, 0));
+      std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
+      ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+      for (int directions : {-1, 16}) {
+        world.world_directions = directions;
+        ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK);
+        for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
+          std::vector<float> image = render(method, 16);
+          double expected = 0.5 * (a + facing * 2.0 * b / 3.0);
+          EXPECT_NEAR(mean(image, 16, 1, 2, 14, 2, 14) / expected, 1.0, 0.02)
+              << "b " << b << ", c " << c << (facing > 0 ? ", from above" : ", from below") << ", " << directions
+              << " directions, method " << method;
+        }
+      }
+    }
+  }
+}
+
 // An opaque box on a grey floor under a world shadowed in 16 directions: the floor beside the box
 // sees less of the world than the floor far from it, and FULL agrees with REFERENCE (ray-traced
 // shadows of the same directions) there. Unshadowed, the floor is the same everywhere.

@@ -104,6 +104,7 @@ class Light:
     area_size: Tuple[float, float] = (1.0, 1.0)  # AREA: sizes along x and y, scene units
     soft_size: float = 0.0  # SUN: angular diameter (radians); POINT, SPOT: radius (docs/SOFT_SHADOWS.md)
     world_below: Vector3 = (0.0, 0.0, 0.0)  # WORLD: radiance below the horizon (absolute, docs/WORLD.md)
+    world_sh: Tuple[float, ...] = ()  # WORLD: 27 floats, the radiance's harmonics (absolute), or () for two halves
 
 
 @dataclass

@@ -20,9 +20,9 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 # The rule and its constants (docs/WORLD.md, "Environment textures"), calibrated by
 # bench/environment.py on generated maps 1-5 and tested on the others.
 MAX_HEIGHT = 256               # the map is averaged down to at most 2 MAX_HEIGHT x MAX_HEIGHT texels
-BRIGHT_FACTOR = 4.0            # texels brighter than this x the map's mean luminance make its bright part
-SPLIT_ANGLE = math.radians(30.0)  # a region whose light spreads wider than this (diameter) is split
-SPLIT_SHARE = 0.05             # ... when it holds at least this share of the map's light
+BRIGHT_FACTOR = 6.0            # texels brighter than this x the map's mean luminance make its bright part
+SPLIT_ANGLE = math.radians(45.0)  # a region whose light spreads wider than this (diameter) is split
+SPLIT_SHARE = 0.005            # ... when it holds at least this share of the map's light
 MAX_SUNS = 16
 MAX_SUN_ANGLE = math.pi / 2    # the library's largest sun diameter (SsLightDesc.soft_size)
 
@@ -42,11 +42,13 @@ class Sun:
 class Decomposition:
     """suns; above, below: the remainder's radiance above the horizon and below it (RGB per unit
     strength), such that a surface facing up (down) gets the map's irradiance; sun_share: the share
-    of the map's light (luminance x solid angle) the suns took."""
+    of the map's light (luminance x solid angle) the suns took; harmonics: the rest's radiance to
+    order 2 (what the library draws; above and below are then its fallback)."""
     suns: list
     above: Vector3
     below: Vector3
     sun_share: float = 0.0
+    harmonics: tuple = ()  # the rest's radiance as 9 RGB spherical harmonics (SsLightDesc.world_sh), or ()
 
 
 def average_down(rgb, max_height=MAX_HEIGHT):
@@ -161,7 +163,8 @@ def decompose_grid(values, lat_edges, u_edges, lookup=None, bright_factor=BRIGHT
     3. Each region is a sun at its light's centroid, its diameter the spread of its light, its
        irradiance what a surface facing it gets from the region.
     4. The rest: the radiance above (below) the horizon that gives a surface facing up (down) the
-       map's irradiance, less the suns'."""
+       map's irradiance, less the suns'; and the texels outside the bright part as spherical
+       harmonics to order 2, with those same irradiances facing up and down (horizontal_exact)."""
     solid_angle, moments = texels(lat_edges, u_edges)
     if lookup is not None:
         moments = moments @ np.asarray(lookup, dtype=np.float64)  # d = M^T m, as rows
@@ -181,7 +184,57 @@ def decompose_grid(values, lat_edges, u_edges, lookup=None, bright_factor=BRIGHT
     sun_down = sum((np.array(s.irradiance) * max(-s.direction[2], 0.0) for s in suns), np.zeros(3))
     above = np.maximum(up - sun_up, 0.0) / np.pi
     below = np.maximum(down - sun_down, 0.0) / np.pi
-    return Decomposition(suns, tuple(float(c) for c in above), tuple(float(c) for c in below), taken)
+    rest = values if not suns else np.where(bright[..., None], 0.0, values)
+    harmonics = rest_harmonics(rest, solid_angle, moments, lat_edges, u_edges, lookup)
+    harmonics = horizontal_exact(harmonics, above, below)
+    return Decomposition(suns, tuple(float(c) for c in above), tuple(float(c) for c in below), taken,
+                         tuple(tuple(float(c) for c in row) for row in harmonics))
+
+
+# Real spherical harmonics to order 2 (SsLightDesc.world_sh's basis, world_light.cpp) and the cosine
+# lobe's share of each band (Ramamoorthi and Hanrahan 2001): E(n) / pi = sum_i BAND_i L_i Y_i(n).
+SH_BAND = np.array([1.0, 2 / 3, 2 / 3, 2 / 3, 0.25, 0.25, 0.25, 0.25, 0.25])
+
+
+def sh_basis(d):
+    """The 9 basis functions at unit directions d (..., 3): (..., 9)."""
+    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    return np.stack(np.broadcast_arrays(0.28209479 + 0 * x, 0.48860251 * y, 0.48860251 * z, 0.48860251 * x,
+                                        1.09254843 * x * y, 1.09254843 * y * z, 0.31539157 * (3 * z * z - 1),
+                                        1.09254843 * x * z, 0.54627422 * (x * x - y * y)), axis=-1)
+
+
+def rest_harmonics(rest, solid_angle, moments, lat_edges, u_edges, lookup):
+    """The rest's radiance (texels' RGB over the grid) projected on sh_basis: (9, 3). Band 0 from the
+    texels' solid angles and band 1 from their direction moments, exactly; band 2 at their centres."""
+    directions = centres(lat_edges, u_edges)
+    if lookup is not None:
+        directions = directions @ np.asarray(lookup, dtype=np.float64)
+    weights = sh_basis(directions) * solid_angle[..., None]
+    weights[..., 0] = 0.28209479 * solid_angle
+    weights[..., 1:4] = 0.48860251 * moments[..., [1, 2, 0]]
+    return np.einsum("ijk,ijc->kc", weights, np.asarray(rest, dtype=np.float64))
+
+
+def horizontal_exact(harmonics, above, below):
+    """The harmonics with L_00 and L_10 set so that surfaces facing up and down get pi `above` and
+    pi `below`, as the two halves give them: the map's irradiance less the suns'. A sun is a disc at
+    its region's centroid; where the region is wide (a bright band round the horizon) a horizontal
+    surface gets less from the disc than from the region, and the rest makes it up, as the two
+    halves did. L_00 is kept no lower than 0."""
+    harmonics = np.array(harmonics, dtype=np.float64)
+    y20 = 0.31539157 * 2.0  # Y_20 at either pole
+    mean = 0.5 * (np.asarray(above) + np.asarray(below)) - 0.25 * harmonics[6] * y20  # L_00 Y_00
+    harmonics[0] = np.maximum(mean, 0.0) / 0.28209479
+    harmonics[2] = 0.5 * (np.asarray(above) - np.asarray(below)) / (2.0 / 3.0 * 0.48860251)
+    return harmonics
+
+
+def harmonics_irradiance(harmonics, normal):
+    """E(n) of radiance harmonics (9, 3) on a surface of unit normal n (RGB), as world_light.cpp's
+    worldRemainder (clamped at 0)."""
+    e = (SH_BAND[:, None] * np.asarray(harmonics)).T @ sh_basis(np.asarray(normal, dtype=np.float64))
+    return np.pi * np.maximum(e, 0.0)
 
 
 def _median_cut_suns(bright_values, solid_angle, moments, lat_edges, u_edges, split_angle, split_light, max_suns):
@@ -218,12 +271,14 @@ def _median_cut_suns(bright_values, solid_angle, moments, lat_edges, u_edges, sp
 
 def irradiance(decomposition, normal):
     """The irradiance (RGB) the decomposition gives an unoccluded surface of unit normal `normal`, as
-    the library renders it: each sun times the cosine to its centre, the remainder mixed by
-    (1 + n_z) / 2 (docs/WORLD.md)."""
+    the library renders it: each sun times the cosine to its centre, the remainder's harmonics (or,
+    without them, its two halves mixed by (1 + n_z) / 2; docs/WORLD.md)."""
     normal = np.asarray(normal, dtype=np.float64)
     total = np.zeros(3)
     for sun in decomposition.suns:
         total += np.array(sun.irradiance) * max(float(np.dot(normal, sun.direction)), 0.0)
+    if decomposition.harmonics:
+        return total + harmonics_irradiance(decomposition.harmonics, normal)
     share = 0.5 * (1.0 + normal[2])
     return total + np.pi * (share * np.array(decomposition.above) + (1.0 - share) * np.array(decomposition.below))
 

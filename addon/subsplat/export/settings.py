@@ -167,7 +167,7 @@ def world_lights(scene, warnings):
     if radiance is None:
         return []
     rgb, below, power = radiance
-    suns = []
+    suns, harmonics = [], ()
     if textures:
         texture = textures[0]
         if texture.type == "TEX_SKY":
@@ -185,20 +185,21 @@ def world_lights(scene, warnings):
             else:
                 decomposition = environment.image_decomposition(texture.image, lookup)
             rgb, below = decomposition.above, decomposition.below
+            harmonics = tuple(v * power for row in decomposition.harmonics for v in row)
             if power > 0.0:
                 suns = [lights.environment_sun(sun, power) for sun in decomposition.suns]
             if suns:
                 warnings.append(f"{where} lights the scene as {len(suns)} sun{'s' if len(suns) > 1 else ''} from "
                                 "its brightest regions (their soft shadows fall on opaque surfaces only) and its "
-                                "remaining light's two hemisphere means (docs/WORLD.md)")
+                                "remaining light to the second order of spherical harmonics (docs/WORLD.md)")
             else:
-                warnings.append(f"{where} lights the scene with its two hemisphere means: no region of it is bright "
-                                "enough for a sun (docs/WORLD.md)")
+                warnings.append(f"{where} lights the scene with its light to the second order of spherical "
+                                "harmonics: no region of it is bright enough for a sun (docs/WORLD.md)")
     result = []
     if max(max(rgb), max(below)) * power > 0.0:
         result.append(Light(type="WORLD", color=tuple(rgb), strength=power, position=(0.0, 0.0, 0.0),
                             direction=(0.0, 0.0, -1.0), world_directions=scene.subsplat.world_directions,
-                            world_below=tuple(c * power for c in below)))
+                            world_below=tuple(c * power for c in below), world_sh=harmonics))
     return result + suns
 
 

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 16
+#define SS_API_VERSION 17
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -177,6 +177,12 @@ typedef struct SsLightDesc {
   /* WORLD: the radiance from below the horizon (z < 0), W/m^2/sr, absolute (not times strength):
    * colour x strength for a uniform world; an environment map's mean below its horizon. */
   float world_below[3];
+  /* WORLD (API 17): the radiance as real spherical harmonics to order 2, absolute (W/m^2/sr, not
+   * times strength): 9 RGB coefficients, [3 i + c] for basis function i = l^2 + l + m (Y_00 =
+   * 1/(2 sqrt(pi)); Y_1-1, Y_10, Y_11 proportional to y, z, x; then xy, yz, 3z^2 - 1, xz, x^2 - y^2),
+   * in the scene's frame. All zero: the world of two halves above. Otherwise it replaces colour x
+   * strength and world_below: an environment map's light after its suns (docs/WORLD.md). */
+  float world_sh[27];
 } SsLightDesc;
 
 typedef struct SsCameraDesc {

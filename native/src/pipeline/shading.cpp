@@ -69,8 +69,7 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
 
 void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance,
                            GLuint transportTables, const float background[4], const EnvironmentInputs& environment,
-                           const glm::vec3& worldAbove, const glm::vec3& worldBelow, bool worldUnshadowed,
-                           float weight, bool first) {
+                           const RenderLights& world, float weight, bool first) {
   glBindFramebuffer(GL_FRAMEBUFFER, resultFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   bool accumulate = weight != 1.0f;
@@ -98,9 +97,11 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
     glUniform1f(uniform(p, "environmentStrength"), environment.strength);
     bindTexture(gl::UNIT_ENVIRONMENT, GL_TEXTURE_2D, environment.texture);
   }
-  glUniform3fv(uniform(p, "worldAbove"), 1, &worldAbove.x);
-  glUniform3fv(uniform(p, "worldBelow"), 1, &worldBelow.x);
-  glUniform1i(uniform(p, "worldUnshadowed"), worldUnshadowed ? 1 : 0);
+  glUniform3fv(uniform(p, "worldAbove"), 1, &world.worldRadiance.x);
+  glUniform3fv(uniform(p, "worldBelow"), 1, &world.worldBelow.x);
+  glUniform1i(uniform(p, "worldHarmonics"), world.worldHarmonics ? 1 : 0);
+  glUniform3fv(uniform(p, "worldIrradiance"), 9, &world.worldIrradiance[0].x);
+  glUniform1i(uniform(p, "worldUnshadowed"), world.unshadowed ? 1 : 0);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());

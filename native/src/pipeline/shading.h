@@ -7,6 +7,7 @@
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/light_views.h"
 #include "pipeline/splatting_buffer.h"
+#include "world_light.h"
 #include "scene.h"
 
 namespace subsplat {
@@ -29,12 +30,12 @@ class Shading {
                       const SplattingBuffer& splatting, GLuint transportTables);
   // Eq. 7 (with the TABULATED model's exit factor) and the background (the environment where there
   // is one, else the colour) into `target` (RGBA32F, width x height).
-  // world: the world's radiance above and below the horizon, and whether it is drawn unshadowed
+  // world: the world's remainder (its two halves or harmonics) and whether it is drawn unshadowed
   // (world_light.h: RenderLights). Anti-aliasing: the frame's image is the samples' mean; each
   // sample adds `weight` times its own (weight 1: written alone), and `first` clears the target.
   void finalShading(const Scene& scene, const SplattingBuffer& splatting, GLuint exitance, GLuint transportTables,
-                    const float background[4], const EnvironmentInputs& environment, const glm::vec3& worldAbove,
-                    const glm::vec3& worldBelow, bool worldUnshadowed, float weight = 1.0f, bool first = true);
+                    const float background[4], const EnvironmentInputs& environment, const RenderLights& world,
+                    float weight = 1.0f, bool first = true);
   GLuint resultFramebuffer() const { return resultFramebuffer_.id(); }
 
  private:

@@ -624,10 +624,8 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       }
       glm::vec3 mirrored = glm::reflect(-view, ns);
       float mu = std::max(glm::dot(ns, view), 0.0f);
-      color += worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, mirrored.z) *
-               specularAlbedo(profile.roughness, profile.specular, mu);
-      glm::vec3 ambient = rendered.unshadowed ? worldHemisphereMix(rendered.worldRadiance, rendered.worldBelow, ns.z)
-                                              : glm::vec3(0.0f);
+      color += worldRemainder(rendered, mirrored) * specularAlbedo(profile.roughness, profile.specular, mu);
+      glm::vec3 ambient = rendered.unshadowed ? worldRemainder(rendered, ns) : glm::vec3(0.0f);
       if (!profile.translucent) color += ambient * profile.baseColor * tint;
       if (profile.translucent) {
         glm::dvec4 b = objects[size_t(hit.mesh)].samples.empty()
