@@ -1,7 +1,7 @@
 """An equirectangular environment map as the lights SubSplat renders (docs/WORLD.md, "Environment
 textures"): a few suns from its brightest regions, found by a median-cut split of the map
 (Debevec 2005, "A Median Cut Algorithm for Light Probe Sampling"), and the rest of its light as the
-WORLD light's two hemisphere values.
+WORLD light's spherical harmonics to order 2.
 
 `decompose` is numpy on the whole map and knows nothing of Blender (bench/environment.py calibrates
 it on generated maps); `texture_lookup` reads the Mapping nodes on the texture's vector, and
