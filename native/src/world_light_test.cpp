@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -84,6 +85,30 @@ class World : public ::testing::Test {
       for (int x = x0; x < x1; ++x) sum += rgba[(size_t(y) * size + x) * 4 + c];
     return sum / double((x1 - x0) * (y1 - y0));
   }
+  // A grey plane (albedo 0.5) under `world`, seen from above and from below, unshadowed and in 16
+  // directions, FULL and REFERENCE: its radiance within 2 % of expected(facing) (+1 from above).
+  void expectEachSide(SsLightDesc world, const std::function<double(float)>& expected, const std::string& what) {
+    SsMaterialDesc plane = testing::greyMaterial(0.5f);
+    ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
+    SsMeshDesc mesh = quad.desc(2.0f, 0);
+    ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
+    for (float facing : {1.0f, -1.0f}) {  // the camera above looking down, or below looking up
+      SsCameraDesc camera = testing::topDownCamera(1.0f);
+      glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5 * facing), glm::vec3(0), glm::vec3(0, 1, 0));
+      std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
+      ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+      for (int directions : {-1, 16}) {
+        world.world_directions = directions;
+        ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK);
+        for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
+          std::vector<float> image = render(method, 16);
+          EXPECT_NEAR(mean(image, 16, 1, 2, 14, 2, 14) / expected(facing), 1.0, 0.02)
+              << what << (facing > 0 ? ", from above" : ", from below") << ", " << directions
+              << " directions, method " << method;
+        }
+      }
+    }
+  }
   // A closed box from lo to hi, outward winding.
   void setBox(uint32_t id, const glm::vec3& lo, const glm::vec3& hi, uint32_t material) {
     box = std::make_unique<testing::Box>(lo, hi);
@@ -120,31 +145,12 @@ TEST_F(World, LambertianPlaneUnderAUniformWorldIsAlbedoTimesRadiance) {
 // A world of two halves (an environment map's means above and below its horizon): a surface facing
 // up gets pi L_above, one facing down pi L_below, a wall the mean; drawn in directions and unshadowed.
 TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
-  SsMaterialDesc plane = testing::greyMaterial(0.5f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
-  SsMeshDesc mesh = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
   SsLightDesc world{};
   world.type = SS_LIGHT_WORLD;
   world.color[0] = world.color[1] = world.color[2] = 1.0f;
   world.strength = 0.8f;
   world.world_below[0] = world.world_below[1] = world.world_below[2] = 0.2f;
-  for (float facing : {1.0f, -1.0f}) {  // the camera above looking down, or below looking up
-    SsCameraDesc camera = testing::topDownCamera(1.0f);
-    glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5 * facing), glm::vec3(0), glm::vec3(0, 1, 0));
-    std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
-    ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-    for (int directions : {-1, 16}) {
-      world.world_directions = directions;
-      ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK);
-      for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
-        std::vector<float> image = render(method, 16);
-        double expected = 0.5 * (facing > 0.0f ? 0.8 : 0.2);
-        EXPECT_NEAR(mean(image, 16, 1, 2, 14, 2, 14) / expected, 1.0, 0.02)
-            << (facing > 0 ? "from above" : "from below") << ", " << directions << " directions, method " << method;
-      }
-    }
-  }
+  expectEachSide(world, [](float facing) { return 0.5 * (facing > 0.0f ? 0.8 : 0.2); }, "two halves");
 }
 
 // A world given as spherical harmonics (API 17: an environment map's light after its suns),
@@ -152,10 +158,6 @@ TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
 // a linear term), one facing down pi a - 2 pi b / 3, whatever c; drawn unshadowed and in 16
 // directions, FULL and REFERENCE. With b = c = 0 it is the uniform world a.
 TEST_F(World, HarmonicsLightEachSideWithTheirIrradiance) {
-  SsMaterialDesc plane = testing::greyMaterial(0.5f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &plane), SS_OK);
-  SsMeshDesc mesh = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &mesh), SS_OK);
   const float a = 0.5f;
   for (auto [b, c] : {std::pair{0.0f, 0.0f}, std::pair{0.3f, 0.4f}}) {
     SsLightDesc world{};
@@ -165,23 +167,8 @@ TEST_F(World, HarmonicsLightEachSideWithTheirIrradiance) {
       world.world_sh[6 + channel] = b * 2.0466534f;  // b / (Y_10 / z)
       world.world_sh[9 + channel] = c * 2.0466534f;  // c / (Y_11 / x)
     }
-    for (float facing : {1.0f, -1.0f}) {
-      SsCameraDesc camera = testing::topDownCamera(1.0f);
-      glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 5 * facing), glm::vec3(0), glm::vec3(0, 1, 0));
-      std::memcpy(camera.world_to_view, glm::value_ptr(view), sizeof camera.world_to_view);
-      ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-      for (int directions : {-1, 16}) {
-        world.world_directions = directions;
-        ASSERT_EQ(ssSetLights(context, &world, 1), SS_OK);
-        for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
-          std::vector<float> image = render(method, 16);
-          double expected = 0.5 * (a + facing * 2.0 * b / 3.0);
-          EXPECT_NEAR(mean(image, 16, 1, 2, 14, 2, 14) / expected, 1.0, 0.02)
-              << "b " << b << ", c " << c << (facing > 0 ? ", from above" : ", from below") << ", " << directions
-              << " directions, method " << method;
-        }
-      }
-    }
+    expectEachSide(world, [&](float facing) { return 0.5 * (a + facing * 2.0 * b / 3.0); },
+                   "harmonics b " + std::to_string(b) + ", c " + std::to_string(c));
   }
 }
 

@@ -323,18 +323,10 @@ class SkyIsCyclesSky(unittest.TestCase):
         array)."""
         scene = helpers.empty_scene(96, 64)
         node = sky_world(scene, math.radians(20.0), math.radians(30.0))
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        camera.data.lens = 20.0
-        camera.rotation_euler = (math.radians(95.0), 0.0, math.radians(-150.0))
-        scene.collection.objects.link(camera)
-        scene.camera = camera
-        images = {}
-        for engine in ("SUBSPLAT", "CYCLES"):
-            scene.render.engine = engine
-            scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 64, False
-            scene.render.filter_size = 0.01  # the pixel centre, as SubSplat's one sample
-            images[engine] = helpers.render(scene, f"sky_background_{engine.lower()}")[..., :3]
-            helpers.write_png(f"sky_background_{engine.lower()}", images[engine])
+        helpers.look_camera(scene, 95.0, -150.0)
+        images = helpers.render_beside_cycles(scene, "sky_background", 64)
+        for engine, image in images.items():
+            helpers.write_png(f"sky_background_{engine.lower()}", image)
         ours, cycles = images["SUBSPLAT"], images["CYCLES"]
         height, width = ours.shape[:2]
         # The horizon's row in the view: the camera looks 5 degrees up, 16.2 mm of sensor high.

@@ -220,17 +220,8 @@ class RadiometryMatchesCycles(unittest.TestCase):
         tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
         tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
         tree.nodes["Background"].inputs["Strength"].default_value = 2.0
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        camera.data.lens = 20.0
-        camera.rotation_euler = (math.radians(80), 0.0, math.radians(-60))
-        scene.collection.objects.link(camera)
-        scene.camera = camera
-        images = {}
-        for engine in ("SUBSPLAT", "CYCLES"):
-            scene.render.engine = engine
-            scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 16, False
-            scene.render.filter_size = 0.01  # the pixel centre, as SubSplat's one sample
-            images[engine] = helpers.render(scene, f"radiometry_environment_background_{engine.lower()}")[..., :3]
+        helpers.look_camera(scene, 80.0, -60.0)
+        images = helpers.render_beside_cycles(scene, "radiometry_environment_background", 16)
         relative = np.abs(images["SUBSPLAT"] - images["CYCLES"]) / np.maximum(images["CYCLES"], 1e-3)
         print(f"radiometry environment background: largest difference {relative.max():.4f}, "
               f"mean {relative.mean():.5f}")

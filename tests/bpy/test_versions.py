@@ -419,23 +419,14 @@ class Render(unittest.TestCase):
         node.sun_elevation, node.sun_rotation = math.radians(20.0), math.radians(30.0)
         tree.links.new(node.outputs["Color"], tree.nodes["Background"].inputs["Color"])
         tree.nodes["Background"].inputs["Strength"].default_value = 0.1
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        camera.data.lens = 20.0
-        camera.rotation_euler = (math.radians(95.0), 0.0, math.radians(-150.0))
-        scene.collection.objects.link(camera)
-        scene.camera = camera
-        scene.render.filter_size = 0.01
+        helpers.look_camera(scene, 95.0, -150.0)
         if node.sky_type != "NISHITA":
             warnings = []
             subsplat.export.settings.world_lights(scene, warnings)
             self.assertTrue(any("which SubSplat does not draw" in w for w in warnings), warnings)
             print(f"{VERSION}: the default sky {node.sky_type} is warned")
             return
-        images = {}
-        for engine in ("SUBSPLAT", "CYCLES"):
-            scene.render.engine = engine
-            scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", 64, False
-            images[engine] = helpers.render(scene, f"sky_{engine.lower()}")[..., :3]
+        images = helpers.render_beside_cycles(scene, "sky", 64)
         ours, cycles = images["SUBSPLAT"], images["CYCLES"]
         rows = ((np.arange(32) + 0.5) / 32 - 0.5) * 36.0 * 32 / 48 / 20.0
         high = np.degrees(np.arctan(rows)) + 5.0 > 6.0  # three of these pixels clear of the horizon's glow

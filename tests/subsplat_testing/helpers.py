@@ -106,6 +106,29 @@ def add_light(scene, kind, location=(0, 0, 0), rotation=(0, 0, 0), energy=1.0, *
     return obj
 
 
+def look_camera(scene, pitch, yaw, lens=20.0):
+    """A perspective camera at the origin turned by (pitch, 0, yaw) degrees (pitch 90: level), the
+    scene's camera."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.lens = lens
+    camera.rotation_euler = (math.radians(pitch), 0.0, math.radians(yaw))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return camera
+
+
+def render_beside_cycles(scene, name, samples):
+    """{engine: RGB array} of SubSplat and Cycles (CPU, `samples`, no denoiser), each pixel at its
+    centre (Filter Size 0.01, as SubSplat's one sample), written as <name>_<engine>.exr."""
+    images = {}
+    for engine in ("SUBSPLAT", "CYCLES"):
+        scene.render.engine = engine
+        scene.cycles.device, scene.cycles.samples, scene.cycles.use_denoising = "CPU", samples, False
+        scene.render.filter_size = 0.01
+        images[engine] = render(scene, f"{name}_{engine.lower()}")[..., :3]
+    return images
+
+
 def render(scene, name):
     """Renders with the scene's engine; linear RGBA float array (height, width, 4), bottom row first."""
     return render_to(scene, os.path.join(OUTPUT, name + ".exr"))
