@@ -84,6 +84,11 @@ class Samples(unittest.TestCase):
                                    places=6)
             self.assertEqual(len(warnings), 1)
             self.assertIn("pixel filter's width", warnings[0])
+        for size in (0.01, 10.0):  # the range's own ends, which Blender stores as float32
+            scene.render.filter_size = size
+            warnings = []
+            export_settings.render_settings(scene, warnings=warnings)
+            self.assertEqual(warnings, [])
 
 
 if __name__ == "__main__":

@@ -52,7 +52,7 @@ def filter_width(scene, warnings):
     size = float(scene.render.filter_size)
     low, high = FILTER_WIDTH_RANGE
     clamped = min(max(size, low), high)
-    if clamped != size:
+    if abs(clamped - size) > 1e-6 * max(size, 1.0):  # filter_size is a float32: 0.01 reads 0.00999999977
         warnings.append(f"the pixel filter's width {size:g} px is outside SubSplat's {low:g} to {high:g} px; "
                         f"it is rendered at {clamped:g} px")
     return clamped
