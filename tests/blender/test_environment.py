@@ -190,9 +190,10 @@ class EnvironmentLightsLikeCycles(unittest.TestCase):
         self.assertAlmostEqual(sun.irradiance[1] / SUN_IRRADIANCE, 1.0, delta=0.02)
         self.assertEqual(environment.decompose(np.full((MAP[0], MAP[1], 3), 0.4)).suns, [])
 
-    def test_a_large_map_decomposes_in_well_under_a_second(self):
+    def test_a_large_map_is_decomposed_once_and_kept(self):
         """A 2048 x 1024 map (a sun on noise) through image_decomposition, read from a Blender image:
-        under a second, then kept (the second call reads nothing)."""
+        one sun; the second call returns the kept decomposition (it reads nothing). The time of each
+        is printed, not asserted (tests assert work, not time; docs/WORLD.md has the figure)."""
         rgb = np.random.default_rng(3).uniform(0.1, 0.3, (1024, 2048, 3)).astype(np.float32)
         rgb[700:712, 300:312] = 4000.0
         image = bpy.data.images.new("Large", 2048, 1024, float_buffer=True)
@@ -206,7 +207,6 @@ class EnvironmentLightsLikeCycles(unittest.TestCase):
         kept = time.perf_counter() - start
         self.measured["2048 x 1024"] = (f"{seconds * 1000:.0f} ms (read, averaged down, decomposed), "
                                         f"kept {kept * 1000:.2f} ms")
-        self.assertLess(seconds, 1.0)
         self.assertIs(first, again)
         self.assertEqual(len(first.suns), 1)
 
@@ -377,6 +377,18 @@ class SkyIsCyclesSky(unittest.TestCase):
         masks, levels = self.compare_shadows("sky", rgb=None)
         self.measured["open plane"] = f"{levels['SUBSPLAT']:.4f} / Cycles {levels['CYCLES']:.4f}"
         self.assertAlmostEqual(levels["SUBSPLAT"] / levels["CYCLES"], 1.0, delta=0.05)
+
+    def test_a_twilight_sky_is_cycles_sky(self):
+        """The sun 3 degrees below the horizon: the sky is lit only where the line to the sun clears
+        the Earth (high in the atmosphere), as in Blender; the view's mean within 0.5 % of Cycles'
+        (before, SubSplat's twilight sky was black)."""
+        scene = helpers.empty_scene(48, 32)
+        sky_world(scene, math.radians(-3.0), math.radians(30.0))
+        helpers.look_camera(scene, 95.0, -150.0)
+        images = helpers.render_beside_cycles(scene, "sky_twilight", 16)
+        means = images["SUBSPLAT"].mean(axis=(0, 1)) / images["CYCLES"].mean(axis=(0, 1))
+        self.measured["twilight"] = f"means {np.round(means, 4).tolist()}"
+        np.testing.assert_allclose(means, 1.0, atol=0.005)
 
     def test_a_sky_model_it_does_not_draw_is_named(self):
         """A Sky Texture of another model (Preetham; in Blender 5, Single and Multiple Scattering) is

@@ -141,13 +141,19 @@ def sky_table(sun_elevation, altitude, air, dust, ozone, width=TABLE_WIDTH, heig
         points = camera + ((step + 0.5) * segment)[:, None] * direction
         density = scale * _densities(np.linalg.norm(points, axis=-1) - EARTH_RADIUS)
         view_depth += segment[:, None] * density
-        if sun[2] < 0.0:  # Blender's test: a sun below the horizon lights no point
-            continue
+        # Blender's test of the Earth in the way: a sun above the horizon never is; one below it is
+        # wherever the line towards it meets the Earth's sphere (a twilight sky is lit from above).
+        lit = np.ones(points.shape[0], dtype=bool)
+        if sun[2] < 0.0:
+            b = 2.0 * (points @ sun)
+            lit = b * b - 4.0 * (np.sum(points * points, axis=-1) - EARTH_RADIUS ** 2) < 0.0
+            if not lit.any():
+                continue
         total = view_depth + scale * _optical_depth(points, np.broadcast_to(sun, points.shape))
         attenuation = np.exp(-(total @ extinction))
         scattering = (density[:, :1] * RAYLEIGH * rayleigh_phase[:, None]
                       + density[:, 1:2] * MIE_COEFFICIENT * mie_phase[:, None])
-        spectrum += attenuation * scattering * SUN_IRRADIANCE * segment[:, None]
+        spectrum += (attenuation * scattering * SUN_IRRADIANCE * segment[:, None]) * lit[:, None]
     xyz = _spectrum_to_xyz(spectrum).reshape(height, half, 3)
     return np.concatenate([xyz, xyz[:, ::-1]], axis=1)
 
