@@ -159,7 +159,8 @@ TEST_F(World, AWorldOfTwoHalvesLightsEachSideWithItsOwn) {
 // directions, FULL and REFERENCE. With b = c = 0 it is the uniform world a.
 TEST_F(World, HarmonicsLightEachSideWithTheirIrradiance) {
   const float a = 0.5f;
-  for (auto [b, c] : {std::pair{0.0f, 0.0f}, std::pair{0.3f, 0.4f}}) {
+  for (std::pair<float, float> bc : {std::pair{0.0f, 0.0f}, std::pair{0.3f, 0.4f}}) {
+    const float b = bc.first, c = bc.second;  // not a structured binding: C++17 lambdas cannot capture those
     SsLightDesc world{};
     world.type = SS_LIGHT_WORLD;
     for (int channel = 0; channel < 3; ++channel) {
