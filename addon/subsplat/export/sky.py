@@ -173,6 +173,11 @@ def sun_colours(sun_elevation, angular_diameter, altitude, air, dust):
     return colours
 
 
+def _stored_rotation(sun_rotation):
+    """The node's Sun Rotation as Cycles stores it: 2 pi minus it, within [0, 2 pi)."""
+    return 2.0 * math.pi - math.fmod(sun_rotation, 2.0 * math.pi) % (2.0 * math.pi)
+
+
 def _table_lookup(table, x, y):
     """Bilinear look-up at (x, y) in [0, 1)^2 with texel centres at (i + 1/2) / size and indices
     wrapping, as Cycles reads an image with the default (repeat) extension."""
@@ -193,7 +198,7 @@ def radiance(directions, table, sun_elevation, sun_rotation, angular_diameter, s
     to black down to z = -0.4 below it, and the sun's disc (interpolated from its lower to its upper
     limb, limb-darkened) instead of the sky where it is. sun_rotation: the node's, in radians."""
     d = np.asarray(directions, dtype=np.float64)
-    rotation = 2.0 * math.pi - math.fmod(sun_rotation, 2.0 * math.pi) % (2.0 * math.pi)  # as Cycles stores it
+    rotation = _stored_rotation(sun_rotation)
     theta = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
     phi = np.arctan2(d[..., 0], d[..., 1])
     x = (phi + math.pi + rotation) / (2.0 * math.pi)
@@ -231,7 +236,7 @@ def _disc_integral(table, params, rotation_node, bottom, top, radial=48, around=
     the sun: the exact amount the map must carry, however few texels the disc covers."""
     sun_elevation, angular_diameter, intensity = params
     half = 0.5 * angular_diameter
-    rotation = 2.0 * math.pi - math.fmod(rotation_node, 2.0 * math.pi) % (2.0 * math.pi)
+    rotation = _stored_rotation(rotation_node)
     centre = _geographic(sun_elevation, rotation + 0.5 * math.pi)
     helper = np.array([0.0, 0.0, 1.0]) if abs(centre[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
     e1 = np.cross(centre, helper)
@@ -262,7 +267,7 @@ def _sky_grid(table, lat_edges, u_edges, sun_rotation):
     rows = table[y0] * (1.0 - fy) + table[(y0 + 1) % h] * fy
     fade = np.clip(1.0 + 2.5 * np.sin(latitude), 0.0, None) ** 3
     rows = np.where(above[:, None, None], rows, table[0][None] * fade[:, None, None]).astype(np.float32)
-    rotation = 2.0 * math.pi - math.fmod(sun_rotation, 2.0 * math.pi) % (2.0 * math.pi)
+    rotation = _stored_rotation(sun_rotation)
     x = 0.5 * (u_edges[1:] + u_edges[:-1]) + 0.25 + rotation / (2.0 * math.pi)
     px = (x - np.floor(x)) * w - 0.5
     x0 = np.floor(px)
@@ -292,7 +297,7 @@ def nishita_map(sun_elevation=math.radians(15.0), sun_rotation=0.0, sun_size=mat
         return rgb
     directions = environment.centres(lat_edges, u_edges)
     exact = _disc_integral(table, (sun_elevation, diameter, sun_intensity), sun_rotation, bottom, top)
-    rotation = 2.0 * math.pi - math.fmod(sun_rotation, 2.0 * math.pi) % (2.0 * math.pi)
+    rotation = _stored_rotation(sun_rotation)
     centre = _geographic(sun_elevation, rotation + 0.5 * math.pi)
     texel = math.pi / height
     near = np.argwhere(directions @ centre > math.cos(0.5 * diameter + 2.0 * texel))
