@@ -278,3 +278,113 @@ vec3 surfaceIrradiance(vec3 p, vec3 n) {
   if (lightAreaCorners > 0) return lightRadiant * polygonIrradiance(p, n);
   return irradianceFacingLight(p) * max(dot(n, towardsLight(p)), 0.0);
 }
+
+// Soft shadows (docs/SOFT_SHADOWS.md): sun: the tangent of half its angle; point, spot: its radius,
+// a disk facing the receiver; area: its own shape (lightSoftAxes, its semi-axes in the world; a
+// rectangle or an ellipse); 0: hard. lightNearDepth: the least light depth in the view (the
+// search's widest reach).
+uniform float lightSoftSize;
+uniform vec3 lightSoftAxes[2];
+uniform int lightSoftRectangle;
+uniform float lightNearDepth;
+uniform float shadowTexelSize;  // world size of an irradiance-buffer texel at distance 1 (or absolute, sun)
+
+// How far a penumbra reaches at a receiver at light depth `depth` behind a blocker at `blocker`, per
+// unit of the light's extent (similar triangles; the sun's extent is already an angle's tangent).
+float penumbraScale(float depth, float blocker) {
+  return lightType == LIGHT_SUN ? depth - blocker : (depth - blocker) / max(blocker, 1e-6);
+}
+// Point k of n spread over the light's shape in its own unit coordinates: the unit square (an R2
+// sequence) or the unit disk (a Vogel spiral); and the shape's norm (1 on its edge).
+vec2 shapePoint(int k, int n) {
+  if (lightSoftRectangle != 0) return fract(vec2(0.7548776662, 0.5698402910) * float(k) + 0.5) * 2.0 - 1.0;
+  float r = sqrt((float(k) + 0.5) / float(n)), phi = 2.39996323 * float(k);
+  return r * vec2(cos(phi), sin(phi));
+}
+float shapeNorm(vec2 x) { return lightSoftRectangle != 0 ? max(abs(x.x), abs(x.y)) : length(x); }
+
+// The share of the light that reaches a receiver at light depth `depth` over the view's point
+// `ndc`, percentage-closer soft shadows (Fernando 2005) over the light's own shape on a depth map
+// of mapResolution texels (the shadow map for suns, the irradiance buffer's light depth for the
+// others; docs/SOFT_SHADOWS.md): the blockers' mean depth, then the share of the penumbra's taps
+// that do not block. texel: a map texel's world size at the receiver; slope: how fast the
+// receiver's depth grows across the map per texel (its bias); p: the receiver. The taps reach at
+// most 32 of the irradiance buffer's texels (maxReach map texels, resolution: the irradiance
+// buffer's), whatever the map's resolution. ignoredObject >= 0: the map is a shadow map (g: the
+// object index, shadow_depth.frag) and that object's own surfaces never block (the light entering
+// a translucent object, irradiance_buffer.frag: its own shape shadows it through the depth test).
+float softVisibility(sampler2D map, int mapResolution, int resolution, vec2 ndc, float depth, float texel, float slope,
+                     vec3 p, float ignoredObject) {
+  float maxReach = 32.0 * float(mapResolution) / float(resolution);
+  // A blocker counts as in the cone up to one of the irradiance buffer's texels beyond it (the
+  // allowance the cone test was made with; one texel of a finer map admits too few, and the
+  // blockers' mean then falls back on the first look's, which counts parts of the occluder too far
+  // to the side: an area light's penumbra 1.3 times Cycles' at 4 times the resolution).
+  float coneAllowance = float(mapResolution) / float(resolution);
+  vec2 centre = (ndc * 0.5 + 0.5) * float(mapResolution);
+  // The light's extent as two world vectors, and their images in the map at p, in texels (the
+  // penumbra is the light's shape scaled by penumbraScale; a perspective map's texels shrink off
+  // its axis and stretch across a slope).
+  vec3 A = lightSoftAxes[0], B = lightSoftAxes[1];
+  if (dot(A, A) == 0.0) {
+    vec3 L = towardsLight(p), u = normalize(cross(L, abs(L.z) < 0.9 ? vec3(0, 0, 1) : vec3(1, 0, 0)));
+    A = u * lightSoftSize, B = cross(L, u) * lightSoftSize;
+  }
+  float h = 0.01 * (lightType == LIGHT_SUN ? texel * 100.0 : distance(p, lightPosition));
+  vec4 c0 = lightViewProj * vec4(p, 1.0);
+  vec4 ca = lightViewProj * vec4(p + A * (h / max(length(A), 1e-20)), 1.0);
+  vec4 cb = lightViewProj * vec4(p + B * (h / max(length(B), 1e-20)), 1.0);
+  float toTexels = 0.5 * float(mapResolution);
+  vec2 ja = (ca.xy / ca.w - c0.xy / c0.w) * toTexels * (length(A) / h);
+  vec2 jb = (cb.xy / cb.w - c0.xy / c0.w) * toTexels * (length(B) / h);
+  float reach = max(max(length(ja), length(jb)), 1e-6);  // texels per unit of penumbraScale
+  // The blockers' mean depth: first over the widest penumbra (the nearest depth in the view), then
+  // again over the penumbra of that mean, counting only the blockers that lie in the cone from the
+  // receiver to the light (at a blocker's depth the cone is the light's shape scaled by
+  // penumbraScale(depth, stored)), so that parts of an occluder too far to the side to hide the
+  // light do not count.
+  float scale = clamp(penumbraScale(depth, lightNearDepth), 1.0 / reach, maxReach / reach);
+  float blockerDepth = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    float blockers = 0.0, sum = 0.0;
+    for (int k = 0; k < 16; ++k) {
+      vec2 x = shapePoint(k, 16), offset = scale * (x.x * ja + x.y * jb);
+      ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(mapResolution - 1));
+      vec2 stored2 = texelFetch(map, t, 0).rg;
+      float stored = stored2.r;
+      if (stored < depth - 2.0 * texel - slope * length(offset) * texel && stored2.g != ignoredObject &&
+          (pass == 0 || shapeNorm(x) * scale <= penumbraScale(depth, stored) + coneAllowance / reach))
+        blockers += 1.0, sum += stored;
+    }
+    if (blockers == 0.0) {
+      if (pass == 0) return 1.0;
+      break;  // the second look found none in the cone: keep the first's
+    }
+    blockerDepth = sum / blockers;
+    scale = clamp(penumbraScale(depth, blockerDepth), 1.0 / reach, maxReach / reach);
+  }
+  float width = clamp(penumbraScale(depth, blockerDepth), 0.5 / reach, maxReach / reach);
+  float lit = 0.0;
+  for (int k = 0; k < 32; ++k) {
+    vec2 x = shapePoint(k, 32), offset = width * (x.x * ja + x.y * jb);
+    ivec2 t = clamp(ivec2(centre + offset), ivec2(0), ivec2(mapResolution - 1));
+    vec2 stored = texelFetch(map, t, 0).rg;
+    if (depth <= stored.r + 2.0 * texel + slope * length(offset) * texel || stored.g == ignoredObject) lit += 1.0;
+  }
+  return lit / 32.0;
+}
+
+float lightDepthOf(vec3 x) { return lightType == LIGHT_SUN ? dot(x, lightDirection) : distance(x, lightPosition); }
+
+// softVisibility for a receiver p of geometric normal n (nl: its cosine to the light) on a map of
+// mapResolution texels, the receiver pushed 1.5 of the map's texels along n and the bias counted in
+// them (resolution: the irradiance buffer's, whose texel shadowTexelSize gives).
+float softVisibilityAt(sampler2D map, int mapResolution, int resolution, vec3 p, vec3 n, float nl, float ignoredObject) {
+  float texel = (lightType == LIGHT_SUN ? shadowTexelSize : shadowTexelSize * distance(p, lightPosition)) *
+                float(resolution) / float(mapResolution);
+  vec3 offset = p + n * (1.5 * texel);
+  vec4 c = lightViewProj * vec4(offset, 1.0);
+  float slope = min(sqrt(max(1.0 - nl * nl, 0.0)) / max(nl, 1e-3), 8.0);
+  return softVisibility(map, mapResolution, resolution, c.xy / c.w, lightDepthOf(offset), texel, slope, p,
+                        ignoredObject);
+}

@@ -6,10 +6,15 @@ in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 surfaceUv;
 uniform float objectIndex;
+// Set when the irradiance buffer holds translucent surfaces only (irradiance_buffer.frag: softEntries):
+// opaque surfaces are not exits either.
+uniform int translucentOnly;
+layout(binding = UNIT_TRIANGLE_MATERIALS) uniform usamplerBuffer triangleMaterials;
 // Distance along the light's rays, object index, the surface's normal (octahedral: octEncode).
 layout(location = 0) out vec4 exitDepthObject;
 void main() {
   if (dot(worldNormal, towardsLight(worldPosition)) >= 0.0) discard;  // faces the light: an entry
+  if (translucentOnly != 0 && !isTranslucent(int(texelFetch(triangleMaterials, gl_PrimitiveID).r))) discard;
   float depth = lightType == LIGHT_SUN ? dot(worldPosition, lightDirection) : distance(worldPosition, lightPosition);
   exitDepthObject = vec4(depth, objectIndex, octEncode(normalize(worldNormal)));
 }

@@ -12,10 +12,17 @@ uniform float orthoTexelArea;   // sun: texel area perpendicular to the light
 uniform float tanHalfFov;       // point, spot: half-extent of the view plane at distance 1
 uniform float footprintSigma;   // x texel size
 uniform int profileSplits;      // non-zero: write profileSplit
+// Soft shadows on the light entering translucent objects (docs/SOFT_SHADOWS.md): when softEntries is
+// set, opaque surfaces are not drawn here, and each translucent texel's flux is scaled by the share of
+// the light that reaches it past other objects, filtered on softMap (a shadow map of every surface,
+// with object indices) of softMapResolution texels.
+uniform int softEntries;
+layout(binding = UNIT_SHADOW_DEPTH) uniform sampler2D softMap;
+uniform int softMapResolution;
 layout(location = 0) out vec4 positionMaterial;  // xyz, material (-1 opaque)
 layout(location = 1) out vec4 fluxFootprint;     // rgb flux (W), footprint sigma
 layout(location = 2) out vec4 normalObject;      // xyz, object index
-layout(location = 3) out float lightDepth;       // distance along the light's rays
+layout(location = 3) out vec2 lightDepth;        // distance along the light's rays, the share of the light reaching it
 layout(location = 4) out vec4 profileSplit;      // pipeline/irradiance_buffer.h: IrradianceBuffer::profileSplit
 
 // Where a profile boundary crosses the texel: the texel's 4 x 4 sub-samples
@@ -58,7 +65,7 @@ void main() {
   if (lightType == LIGHT_SUN) {
     flux = lightRadiant * orthoTexelArea;
     perpendicularArea = orthoTexelArea;
-    lightDepth = dot(worldPosition, lightDirection);
+    lightDepth = vec2(dot(worldPosition, lightDirection), 1.0);
   } else {
     vec2 ndc = gl_FragCoord.xy / float(resolution) * 2.0 - 1.0;
     vec2 plane = ndc * tanHalfFov;
@@ -70,12 +77,19 @@ void main() {
     if (lightAreaCorners > 0)
       flux = surfaceIrradiance(worldPosition, n) * distance2 * texelSolidAngle / max(cosShading, 1e-3);
     perpendicularArea = texelSolidAngle * distance2;
-    lightDepth = sqrt(distance2);
+    lightDepth = vec2(sqrt(distance2), 1.0);
   }
-  if (isTranslucent(material)) {
+  bool translucent = isTranslucent(material);
+  if (softEntries != 0 && !translucent) discard;
+  if (translucent && softEntries != 0) {
+    lightDepth.g = softVisibilityAt(softMap, softMapResolution, resolution, worldPosition, geometric * sign(dot(geometric, L)),
+                                    abs(dot(geometric, L)), objectIndex);
+    if (lightDepth.g == 0.0) translucent = false;  // in the umbra: no light enters, nothing to splat
+  }
+  if (translucent) {
     // The colour texture's tint, sqrt(T) as the light enters (final_shading.frag: sqrt(T) as it leaves).
     flux *= fresnelTransmittance(materials[material].optics.x, cosShading) * lightWeight(n) *
-            sqrt(materialColor(material, surfaceUv));
+            sqrt(materialColor(material, surfaceUv)) * lightDepth.g;
   } else {
     material = -1;
     flux = vec3(0.0);

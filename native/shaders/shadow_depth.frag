@@ -1,9 +1,10 @@
 // A light view's shadow map at its own resolution (docs/SOFT_SHADOWS.md): the light depth of the
-// nearest surface, as irradiance_buffer.frag writes it.
+// nearest surface, as irradiance_buffer.frag writes it, and its object (softVisibility's ignoredObject).
 in vec3 worldPosition;
 in vec3 worldNormal;
 in vec2 surfaceUv;
-layout(location = 0) out float lightDepth;  // distance along the light's rays
+uniform float objectIndex;
+layout(location = 0) out vec2 lightDepthObject;  // distance along the light's rays, the object's index
 void main() {
-  lightDepth = lightType == LIGHT_SUN ? dot(worldPosition, lightDirection) : distance(worldPosition, lightPosition);
+  lightDepthObject = vec2(lightDepthOf(worldPosition), objectIndex);
 }

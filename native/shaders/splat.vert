@@ -18,7 +18,6 @@ uniform int levels;              // 1: BRUTE
 uniform int levelOffset[9];      // first vertex of each level; levelOffset[levels] = total
 uniform float z0;                // depth-range threshold, scene units
 uniform float alpha;             // eq. 11's scale
-uniform float shadowTexelSize;   // level-0 texel: absolute (sun) or at distance 1
 uniform int splatLevel;          // selections are counted in the pass of splatting level 0
 layout(std430, binding = STORAGE_SELECTION_COUNTS) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {

@@ -243,25 +243,55 @@ void Renderer::render(int width, int height, float* rgba) {
     shadowMap_.resize(shadowResolution);
   }
   stats_.shadow_resolution = shadowResolution;
-  // The direct light's inputs of the view just rendered.
-  auto shadowInputs = [&] {
+  // A soft light's shadow on what enters translucent objects (docs/SOFT_SHADOWS.md, "Translucent
+  // objects"): the irradiance buffer without opaque surfaces, filtered on a shadow map of every
+  // surface drawn first: a sun's own shadow map, else one at the irradiance buffer's resolution.
+  // Only where another object can cast it.
+  bool softEntriesPossible = !translucent.empty() && scene_.meshes().size() > 1;
+  bool softMapNeeded = false;
+  for (const LightView& view : views)
+    if (softEntriesPossible && view.softSize > 0.0f && (view.light->type != SS_LIGHT_SUN || !ownShadowMap))
+      softMapNeeded = true;
+  if (softMapNeeded) {
+    gl::Purpose purpose("the soft shadows' maps (" + std::to_string(res) + " x " + std::to_string(res) +
+                        " texels; lower the irradiance resolution)");
+    softMap_.resize(res);
+  }
+  // Draws view i's maps and irradiance buffer; returns what the direct light reads of them.
+  std::vector<char> softEntries(views.size(), 0);
+  auto renderView = [&](size_t i) {
+    const LightView& view = views[i];
+    bool sun = view.light->type == SS_LIGHT_SUN, soft = softEntriesPossible && view.softSize > 0.0f;
+    softEntries[i] = soft;
+    SoftEntries entries;
+    // A point, spot or area light's soft shadows never read the fine map.
+    bool fine = ownShadowMap && (sun || view.softSize <= 0.0f);
+    if (fine) shadowMap_.render(scene_, gpuScene_, view);
+    if (soft && sun && ownShadowMap) {
+      entries = {shadowMap_.lightDepth(), shadowResolution};
+    } else if (soft) {
+      softMap_.render(scene_, gpuScene_, view);
+      entries = {softMap_.lightDepth(), res};
+    }
+    irradiance_.render(scene_, gpuScene_, view, entries);
     ShadowInputs inputs = irradiance_.shadowInputs();
-    if (ownShadowMap) inputs.shadowDepth = shadowMap_.lightDepth(), inputs.shadowResolution = shadowResolution;
+    if (fine) inputs.shadowDepth = shadowMap_.lightDepth(), inputs.shadowResolution = shadowResolution;
+    if (soft && !fine) inputs.shadowDepth = softMap_.lightDepth(), inputs.shadowResolution = res;
+    if (soft && !sun) inputs.softDepth = softMap_.lightDepth();
     return inputs;
   };
   shadowCopies_.reset();
   for (size_t i = 0; i < views.size(); ++i) {
     const LightView& view = views[i];
     profiler.begin(SS_STAGE_BUFFERS);
-    irradiance_.render(scene_, gpuScene_, view);
-    if (ownShadowMap) shadowMap_.render(scene_, gpuScene_, view);
-    if (samples > 1) shadowCopies_.keep(i, shadowInputs(), scene_.tabulated());
-    if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport);
+    ShadowInputs inputs = renderView(i);
+    if (samples > 1) shadowCopies_.keep(i, inputs, scene_.tabulated());
+    if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport, softEntries[i] != 0);
     if (adaptive) irradiance_.buildHierarchy();
     profiler.end();
     if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
     profiler.begin(SS_STAGE_SHADING);
-    shading_.directLighting(scene_, view, shadowInputs(), splatting_, kernels.transport);
+    shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport);
     profiler.end();
     ++stats_.light_views;
     gl::checkErrors("light view");
@@ -292,15 +322,15 @@ void Renderer::render(int width, int height, float* rgba) {
     // Each view's shadow map as the first sample kept it; one past the copies' budget is drawn again.
     for (size_t i = 0; i < views.size(); ++i) {
       const ShadowInputs* kept = shadowCopies_.find(i);
+      ShadowInputs drawn;
       if (kept == nullptr) {
         profiler.begin(SS_STAGE_BUFFERS);
-        irradiance_.render(scene_, gpuScene_, views[i]);
-        if (ownShadowMap) shadowMap_.render(scene_, gpuScene_, views[i]);
+        drawn = renderView(i);
         profiler.end();
         ++stats_.light_views;
       }
       profiler.begin(SS_STAGE_SHADING);
-      shading_.directLighting(scene_, views[i], kept ? *kept : shadowInputs(), sampleBuffer_, kernels.transport);
+      shading_.directLighting(scene_, views[i], kept ? *kept : drawn, sampleBuffer_, kernels.transport);
       profiler.end();
       gl::checkErrors("anti-aliasing sample");
     }

@@ -60,6 +60,7 @@ class Renderer {
   ExitanceReprojection reprojection_;
   ShadowCopies shadowCopies_;      // the first sample's shadow maps, for the others
   ShadowMap shadowMap_;            // the hard shadows' map, when its resolution is not the irradiance's
+  ShadowMap softMap_;              // every surface at the irradiance's resolution, for SoftEntries
   Splatting splats_;
   Shading shading_;
   Coverage coverage_;

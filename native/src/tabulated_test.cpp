@@ -4,7 +4,9 @@
 // model on the CPU.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "material/transport_model.h"
@@ -149,6 +151,67 @@ TEST_F(Tabulated, ObliqueLightThroughAThinSlabIsTheSlabsTransmission) {
       }
     }
   }
+}
+
+// The tau = 0.5 slab lit from below by a sun of 20 degrees, an opaque board 1 unit under it hiding
+// x < 0 (docs/SOFT_SHADOWS.md, "Translucent objects"): the light through the slab is shadowed
+// softly, its penumbra about 2 tan(10 degrees) = 0.35 units wide, with none of it under the board
+// (the entries behind the board are in the irradiance buffer, their share of the light 0). FULL's
+// columns against REFERENCE's, which traces the same rule.
+TEST_F(Tabulated, ASoftShadowUnderAThinSlabShadowsWhatCrossesIt) {
+  SsMaterialDesc m = medium(true, 20.0f);
+  float thickness = float(0.5 / (m.sigma_a[1] + m.sigma_s_prime[1]) / 20.0);
+  setBox(m, thickness);
+  SsMaterialDesc grey = testing::greyMaterial(0.5f);
+  ASSERT_EQ(ssSetMaterial(context, 1, &grey), SS_OK);
+  testing::Box board(glm::vec3(-3.0f, -3.0f, -thickness - 1.1f), glm::vec3(0.0f, 3.0f, -thickness - 1.0f));
+  SsMeshDesc boardMesh = board.desc(1);
+  ASSERT_EQ(ssSetMesh(context, 1, &boardMesh), SS_OK) << ssGetLastError();
+  SsCameraDesc camera = testing::topDownCamera(1.0f);  // x in [-1, 1] over the image
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc sun = testing::sunLight(3.0f, 180.0f);  // from below
+  constexpr int kSize = 64;
+  // The green channel's mean over the middle rows, per column.
+  auto columns = [&](int method, float softDegrees) {
+    sun.soft_size = float(softDegrees * M_PI / 180.0);
+    EXPECT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+    Image image = render(method, kSize);
+    std::vector<double> out(kSize, 0.0);
+    for (int x = 0; x < kSize; ++x)
+      for (int y = kSize / 2 - 8; y < kSize / 2 + 8; ++y) out[size_t(x)] += image.rgba[(size_t(y) * kSize + x) * 4 + 1] / 16.0;
+    return out;
+  };
+  auto band = [&](const std::vector<double>& c, double from, double to) {  // mean over x in [from, to]
+    double sum = 0.0;
+    int n = 0;
+    for (int x = 0; x < kSize; ++x) {
+      double u = (x + 0.5) / kSize * 2.0 - 1.0;
+      if (u >= from && u <= to) sum += c[size_t(x)], ++n;
+    }
+    return sum / std::max(n, 1);
+  };
+  auto width = [&](const std::vector<double>& c) {  // 10-90 % of the lit band, in scene units
+    double lit = band(c, 0.6, 1.0);
+    auto crossing = [&](double level) {
+      for (int x = 0; x + 1 < kSize; ++x)
+        if (c[size_t(x)] < level * lit && c[size_t(x + 1)] >= level * lit)
+          return x + (level * lit - c[size_t(x)]) / (c[size_t(x + 1)] - c[size_t(x)]);
+      return double(kSize);
+    };
+    return (crossing(0.9) - crossing(0.1)) * 2.0 / kSize;
+  };
+  std::vector<double> full = columns(SS_METHOD_FULL, 20.0f), reference = columns(SS_METHOD_REFERENCE, 20.0f),
+                      hard = columns(SS_METHOD_FULL, 0.0f);
+  std::printf("through the slab: lit FULL %.4f REFERENCE %.4f; under the board FULL %.5f REFERENCE %.5f; "
+              "penumbra 10-90 %% FULL %.3f REFERENCE %.3f, hard FULL %.3f\n",
+              band(full, 0.6, 1.0), band(reference, 0.6, 1.0), band(full, -1.0, -0.5), band(reference, -1.0, -0.5),
+              width(full), width(reference), width(hard));
+  EXPECT_NEAR(band(full, 0.6, 1.0) / band(reference, 0.6, 1.0), 1.0, 0.05);
+  EXPECT_LT(band(full, -1.0, -0.5), 0.01 * band(full, 0.6, 1.0));
+  EXPECT_LT(band(reference, -1.0, -0.5), 0.01 * band(reference, 0.6, 1.0));
+  EXPECT_NEAR(width(full) / width(reference), 1.0, 0.2);
+  EXPECT_GT(width(reference), 0.2);
+  EXPECT_LT(width(hard), 0.6 * width(full));
 }
 
 }  // namespace

@@ -311,8 +311,6 @@ class BadInputTable(unittest.TestCase):
                      "Warning: SubSplat: camera 'Focused' has depth of field on",
                      "Warning: SubSplat: world 'Studio': its Background colour is connected to a Environment Texture "
                      "node, which SubSplat does not render; the world lights the scene with the socket's own colour",
-                     "its soft shadows fall on opaque surfaces only; the light entering translucent objects is "
-                     "shadowed from its centre (hard)",
                      "Warning: SubSplat: material 'Painted': Base Color is connected to a Image Texture node, which "
                      "SubSplat does not read",
                      "Warning: SubSplat: material 'Bumpy': Normal is connected to a Normal Map node"):

@@ -37,9 +37,6 @@ def light_data(obj, matrix, warnings, origin=(0.0, 0.0, 0.0)):
     soft = light.angle if light.type == "SUN" else getattr(light, "shadow_soft_size", 0.0)
     if light.type != "AREA":
         data.soft_size = min(soft, math.pi / 2) if light.type == "SUN" else soft
-    if light.type == "AREA" or soft > 0.0:
-        warnings.append(f"light '{obj.name}': its soft shadows fall on opaque surfaces only; the light entering "
-                        "translucent objects is shadowed from its centre (hard)")
     return data
 
 

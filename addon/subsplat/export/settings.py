@@ -190,7 +190,7 @@ def world_lights(scene, warnings):
                 suns = [lights.environment_sun(sun, power) for sun in decomposition.suns]
             if suns:
                 warnings.append(f"{where} lights the scene as {len(suns)} sun{'s' if len(suns) > 1 else ''} from "
-                                "its brightest regions (their soft shadows fall on opaque surfaces only) and its "
+                                "its brightest regions and its "
                                 "remaining light to the second order of spherical harmonics (docs/WORLD.md)")
             else:
                 warnings.append(f"{where} lights the scene with its light to the second order of spherical "

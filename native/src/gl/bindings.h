@@ -45,7 +45,8 @@
   X(UNIT_SPLATTING_ALBEDO, 26, GL_TEXTURE_2D)                 \
   X(UNIT_SPLATTING_SHADING_NORMAL, 27, GL_TEXTURE_2D)         \
   X(UNIT_TEXTURE_TEXELS, 28, GL_TEXTURE_BUFFER)               \
-  X(UNIT_ENVIRONMENT, 29, GL_TEXTURE_2D)
+  X(UNIT_ENVIRONMENT, 29, GL_TEXTURE_2D)                      \
+  X(UNIT_SOFT_DEPTH, 30, GL_TEXTURE_2D)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \

@@ -20,7 +20,7 @@ void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
   positionMaterial_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   fluxFootprint_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
   normalObject_ = gl::makeTexture2D(GL_RGBA32F, resolution, resolution, GL_NEAREST, levels);
-  lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
+  lightDepth_ = gl::makeTexture2D(GL_RG32F, resolution, resolution);
   depthRange_ = gl::makeTexture2D(GL_RG32F, resolution, resolution, GL_NEAREST, levels);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
   if (profileSplits) {
@@ -67,7 +67,7 @@ void IrradianceBuffer::buildHierarchy() {
 }
 
 void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, const LightView& view,
-                                      GLuint transportTables) {
+                                      GLuint transportTables, bool translucentOnly) {
   if (!exitProgram_) {
     exitProgram_ = gl::makeProgram("mesh.vert", "", "exit_depth.frag");
     incidenceProgram_ = gl::makeComputeProgram("incidence.comp");
@@ -81,6 +81,7 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
   GLuint e = exitProgram_.id();
   beginMeshPass(exitFramebuffer_.id(), resolution_, resolution_, {glm::vec4(1e30f, -2.0f, 0.0f, 0.0f)}, e);
   setLightUniforms(e, view);
+  glUniform1i(uniform(e, "translucentOnly"), translucentOnly ? 1 : 0);
   drawMeshes(scene, gpu, e, view.viewProj);
   glDisable(GL_DEPTH_TEST);
   // The incidence factor on level 0.
@@ -100,7 +101,7 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
   gl::checkErrors("incidence factor");
 }
 
-void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view) {
+void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft) {
   const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
   GLuint p = program_.id();
   if (profileSplits_)
@@ -113,6 +114,12 @@ void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const Lig
   glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
   glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
   glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
+  glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);
+  if (soft.on()) {
+    setSoftShadowUniforms(p, view);
+    glUniform1i(uniform(p, "softMapResolution"), soft.resolution);
+    bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, soft.map);
+  }
   drawMeshes(scene, gpu, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);
 }

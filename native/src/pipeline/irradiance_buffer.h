@@ -14,11 +14,25 @@ namespace subsplat {
 // shadows), position and normal (TABULATED materials' light through thin parts), level 0, and the
 // shadow map of the hard shadows (pipeline/shadow_map.h; the irradiance buffer's light depth when
 // it has the same resolution).
+// softDepth: the map at the irradiance buffer's resolution that point, spot and area lights' soft
+// shadows filter (0: lightDepth; a shadow map when the irradiance buffer was drawn without opaque
+// surfaces, SoftEntries).
 struct ShadowInputs {
   GLuint lightDepth = 0, positionMaterial = 0, normalObject = 0;
   int resolution = 0;
   GLuint shadowDepth = 0;
   int shadowResolution = 0;
+  GLuint softDepth = 0;
+};
+
+// Soft shadows on the light entering translucent objects (docs/SOFT_SHADOWS.md): the irradiance
+// buffer is drawn without opaque surfaces, and each translucent texel's flux is scaled by the share
+// of the light reaching it past other objects, filtered on `map` (a ShadowMap of every surface, of
+// `resolution` texels, drawn before). map 0: off, every surface drawn and the depth test shadows.
+struct SoftEntries {
+  GLuint map = 0;
+  int resolution = 0;
+  bool on() const { return map != 0; }
 };
 
 class IrradianceBuffer {
@@ -27,11 +41,13 @@ class IrradianceBuffer {
   // profileSplits: keep, per level-0 texel, where a second profile covers part
   // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
   void resize(int resolution, int levels = 1, bool profileSplits = false);
-  void render(const Scene& scene, const GpuScene& gpu, const LightView& view);
+  void render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft = {});
   // TABULATED materials (material/transport_model.h): renders where the light leaves each part
   // (exitDepth) and scales the finest level's flux by the incidence factor R(tau, mu0) / R(1).
   // Before buildHierarchy; transportTables: MaterialTables::transport().
-  void applyIncidence(const Scene& scene, const GpuScene& gpu, const LightView& view, GLuint transportTables);
+  // translucentOnly: the buffer was drawn with SoftEntries (opaque surfaces are no exits either).
+  void applyIncidence(const Scene& scene, const GpuScene& gpu, const LightView& view, GLuint transportTables,
+                      bool translucentOnly = false);
   // Builds levels 1 .. levels-1 and the min/max depth hierarchy from level 0.
   void buildHierarchy();
   int resolution() const { return resolution_; }
@@ -42,6 +58,7 @@ class IrradianceBuffer {
   GLuint positionMaterial() const { return positionMaterial_.id(); }
   GLuint fluxFootprint() const { return fluxFootprint_.id(); }
   GLuint normalObject() const { return normalObject_.id(); }
+  // r: light depth, g: the share of the light that reaches the texel (1 unless SoftEntries).
   GLuint lightDepth() const { return lightDepth_.id(); }
   ShadowInputs shadowInputs() const {
     return {lightDepth_.id(), positionMaterial_.id(), normalObject_.id(), resolution_, lightDepth_.id(), resolution_};

@@ -45,6 +45,14 @@ void setLightUniforms(GLuint program, const LightView& view) {
     glUniform3fv(uniform(program, "worldDirections"), worldCount, glm::value_ptr(view.worldDirections->front()));
 }
 
+void setSoftShadowUniforms(GLuint program, const LightView& view) {
+  glUniform1f(uniform(program, "shadowTexelSize"), view.shadowTexelSize);
+  glUniform1f(uniform(program, "lightSoftSize"), view.softSize);
+  glUniform1f(uniform(program, "lightNearDepth"), view.nearDepth);
+  glUniform3fv(uniform(program, "lightSoftAxes"), 2, glm::value_ptr(view.softAxes[0]));
+  glUniform1i(uniform(program, "lightSoftRectangle"), view.softRectangle ? 1 : 0);
+}
+
 void drawMeshes(const Scene& scene, const GpuScene& gpu, GLuint program, const glm::mat4& viewProj) {
   glUniformMatrix4fv(uniform(program, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
   bindTexture(gl::UNIT_PROFILE_MAPS, GL_TEXTURE_BUFFER, gpu.profileMaps());

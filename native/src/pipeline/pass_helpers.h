@@ -17,6 +17,8 @@ namespace subsplat {
 // Uniform helpers shared by the passes.
 GLint uniform(GLuint program, const char* name);
 void setLightUniforms(GLuint program, const LightView& view);
+// The view's soft-shadow uniforms (common.glsl: softVisibility).
+void setSoftShadowUniforms(GLuint program, const LightView& view);
 // Binds `texture` on a unit of the binding table (gl/bindings.h), which the shaders name, and
 // no sampler object there (a host's sampler would override the texture's filtering).
 void bindTexture(int unit, GLenum target, GLuint texture);

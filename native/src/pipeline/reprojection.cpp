@@ -12,20 +12,23 @@ bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurfa
   int r = source.resolution;
   bool ownShadow = source.shadowDepth != source.lightDepth;
   int s = ownShadow ? source.shadowResolution : 0;
-  size_t bytes = size_t(r) * size_t(r) * (withSurface ? 36 : 4) + size_t(s) * size_t(s) * 4;
+  // The soft shadows' map, when it is neither of the others (ShadowInputs::softDepth).
+  bool ownSoft = source.softDepth != 0 && source.softDepth != source.lightDepth && source.softDepth != source.shadowDepth;
+  size_t bytes = size_t(r) * size_t(r) * ((withSurface ? 40 : 8) + (ownSoft ? 8 : 0)) + size_t(s) * size_t(s) * 8;
   if ((index + 1) * bytes > kBudgetBytes) return false;
   if (copies_.size() <= index) copies_.resize(index + 1);
   Copy& copy = copies_[index];
-  if (copy.resolution != r || copy.withSurface != withSurface || copy.shadowResolution != s) {
+  if (copy.resolution != r || copy.withSurface != withSurface || copy.shadowResolution != s || copy.ownSoft != ownSoft) {
     copy = Copy{};
     try {
       gl::Purpose purpose("a copy of a shadow map for the anti-aliasing samples");
-      copy.depth = gl::makeTexture2D(GL_R32F, r, r);
+      copy.depth = gl::makeTexture2D(GL_RG32F, r, r);
       if (withSurface) {
         copy.position = gl::makeTexture2D(GL_RGBA32F, r, r);
         copy.normal = gl::makeTexture2D(GL_RGBA32F, r, r);
       }
-      if (ownShadow) copy.shadow = gl::makeTexture2D(GL_R32F, s, s);
+      if (ownShadow) copy.shadow = gl::makeTexture2D(GL_RG32F, s, s);
+      if (ownSoft) copy.soft = gl::makeTexture2D(GL_RG32F, r, r);
     } catch (const Error& e) {
       if (e.status() != SS_LIMIT_EXCEEDED) throw;
       copy = Copy{};  // past the memory budget: this view's shadow map is drawn again per sample
@@ -34,6 +37,7 @@ bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurfa
     copy.resolution = r;
     copy.shadowResolution = s;
     copy.withSurface = withSurface;
+    copy.ownSoft = ownSoft;
   }
   auto duplicate = [](GLuint from, GLuint to, int size) {
     glCopyImageSubData(from, GL_TEXTURE_2D, 0, 0, 0, 0, to, GL_TEXTURE_2D, 0, 0, 0, 0, size, size, 1);
@@ -44,9 +48,13 @@ bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurfa
     duplicate(source.normalObject, copy.normal.id(), r);
   }
   if (ownShadow) duplicate(source.shadowDepth, copy.shadow.id(), s);
+  if (ownSoft) duplicate(source.softDepth, copy.soft.id(), r);
+  GLuint soft = 0;
+  if (ownSoft) soft = copy.soft.id();
+  else if (source.softDepth != 0 && source.softDepth == source.shadowDepth && ownShadow) soft = copy.shadow.id();
   if (kept_.size() <= index) kept_.resize(index + 1);
   kept_[index] = {copy.depth.id(), copy.position.id(), copy.normal.id(), r,
-                  ownShadow ? copy.shadow.id() : copy.depth.id(), ownShadow ? s : r};
+                  ownShadow ? copy.shadow.id() : copy.depth.id(), ownShadow ? s : r, soft};
   return true;
 }
 

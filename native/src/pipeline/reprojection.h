@@ -28,8 +28,8 @@ class ShadowCopies {
  private:
   struct Copy {
     int resolution = 0, shadowResolution = 0;  // shadowResolution 0: the irradiance buffer's map
-    bool withSurface = false;
-    gl::Texture depth, position, normal, shadow;
+    bool withSurface = false, ownSoft = false;
+    gl::Texture depth, position, normal, shadow, soft;
   };
   std::vector<Copy> copies_;
   std::vector<ShadowInputs> kept_;  // per view index, resolution 0 where not kept

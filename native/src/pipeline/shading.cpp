@@ -42,18 +42,15 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   setLightUniforms(p, view);
   setCameraUniforms(p, scene.camera());
   glUniform1i(uniform(p, "resolution"), shadow.resolution);
-  glUniform1f(uniform(p, "shadowTexelSize"), view.shadowTexelSize);
   glUniform1i(uniform(p, "unshadowedOutside"), view.unshadowedOutside ? 1 : 0);
-  glUniform1f(uniform(p, "lightSoftSize"), view.softSize);
-  glUniform1f(uniform(p, "lightNearDepth"), view.nearDepth);
-  glUniform3fv(uniform(p, "lightSoftAxes"), 2, glm::value_ptr(view.softAxes[0]));
-  glUniform1i(uniform(p, "lightSoftRectangle"), view.softRectangle ? 1 : 0);
+  setSoftShadowUniforms(p, view);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());
   bindTexture(gl::UNIT_SPLATTING_SHADING_NORMAL, GL_TEXTURE_2D, splatting.shadingNormal());
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, shadow.lightDepth);
   bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, shadow.shadowDepth);
+  bindTexture(gl::UNIT_SOFT_DEPTH, GL_TEXTURE_2D, shadow.softDepth ? shadow.softDepth : shadow.lightDepth);
   glUniform1i(uniform(p, "shadowResolution"), shadow.shadowResolution);
   glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
   if (scene.tabulated()) {

@@ -14,7 +14,7 @@ void ShadowMap::resize(int resolution) {
   framebuffer_ = gl::Framebuffer();
   lightDepth_.reset();
   depth_.reset();
-  lightDepth_ = gl::makeTexture2D(GL_R32F, resolution, resolution);
+  lightDepth_ = gl::makeTexture2D(GL_RG32F, resolution, resolution);
   depth_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, resolution, resolution);
   framebuffer_ = gl::makeFramebuffer({lightDepth_.id()}, depth_.id());
   resolution_ = resolution;

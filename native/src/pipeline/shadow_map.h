@@ -1,6 +1,8 @@
 // A light view's shadow map at its own resolution (docs/SOFT_SHADOWS.md, "Shadow maps"): the light
-// depth of the nearest surface, for the hard shadows of the direct-lighting pass. The irradiance
-// buffer's resolution follows the scattering; the shadow's staircase follows the image.
+// depth of the nearest surface and its object's index, for the hard shadows of the direct-lighting
+// pass. The irradiance buffer's resolution follows the scattering; the shadow's staircase follows the
+// image. A second map at the irradiance buffer's resolution serves the soft shadows on translucent
+// objects (renderer.cpp, docs/SOFT_SHADOWS.md).
 #pragma once
 
 #include "gl/gl.h"
@@ -16,6 +18,7 @@ class ShadowMap {
   // The view's light depth at this map's resolution (the view's projection, every mesh).
   void render(const Scene& scene, const GpuScene& gpu, const LightView& view);
   int resolution() const { return resolution_; }
+  // rg: light depth, object index.
   GLuint lightDepth() const { return lightDepth_.id(); }
 
  private:

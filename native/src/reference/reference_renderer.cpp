@@ -278,12 +278,32 @@ glm::vec3 offsetOrigin(const glm::vec3& p, const glm::vec3& geometricNormal, con
   return p + geometricNormal * (glm::dot(geometricNormal, direction) >= 0.0f ? epsilon : -epsilon);
 }
 
-bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light) {
+// The first hit along origin + t direction, t in (tNear, tFar), that `counts` accepts; the others
+// are passed through.
+template <typename Counts>
+Hit firstHit(const RayScene& rays, const glm::vec3& origin, const glm::vec3& direction, float tNear, float tFar,
+             const Counts& counts) {
+  float t = tNear;
+  for (int crossings = 0; crossings < 64; ++crossings) {
+    Hit hit = rays.intersect(origin, direction, t, tFar);
+    if (!hit.valid() || counts(hit)) return hit;
+    t = hit.distance + rays.epsilon();
+  }
+  return Hit{};
+}
+
+// Whether p sees the light's sample. ignoredMesh >= 0: that mesh's surfaces never block (the light
+// entering a translucent object, whose own shape shadows it from the light's centre only, as the
+// irradiance buffer's depth test does: irradiance_buffer.frag, docs/SOFT_SHADOWS.md).
+bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light,
+             int ignoredMesh = -1) {
   float eps = rays.epsilon();
   glm::vec3 origin = offsetOrigin(p, ng, light.towardsLight, eps);
   float far = std::isinf(light.distance) ? std::numeric_limits<float>::infinity()
                                          : std::max(light.distance - 2.0f * eps, 0.0f);
-  return !rays.occluded(origin, light.towardsLight, 0.0f, far);
+  if (ignoredMesh < 0) return !rays.occluded(origin, light.towardsLight, 0.0f, far);
+  return !firstHit(rays, origin, light.towardsLight, 0.0f, far, [&](const Hit& h) { return h.mesh != ignoredMesh; })
+              .valid();
 }
 
 // The share of a soft light (docs/SOFT_SHADOWS.md) that p sees: shadow rays to kSoftShadowRays points
@@ -291,7 +311,7 @@ bool visible(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, cons
 // of its radius facing p), on a Vogel spiral. softSize as LightView's (light_views.h).
 constexpr int kSoftShadowRays = 16;
 float softVisibility(const RayScene& rays, const glm::vec3& p, const glm::vec3& ng, const LightSample& light,
-                     const SsLightDesc& desc, float softSize) {
+                     const SsLightDesc& desc, float softSize, int ignoredMesh = -1) {
   // The light's extent: an area light's own shape (its semi-axes, a rectangle or an ellipse), else a
   // disk of radius softSize across the ray (a sun's: tan of half its angle).
   glm::vec3 w = light.towardsLight, a, b;
@@ -322,7 +342,7 @@ float softVisibility(const RayScene& rays, const glm::vec3& p, const glm::vec3& 
       ray.distance = glm::length(target - p);
       ray.towardsLight = (target - p) / ray.distance;
     }
-    seen += visible(rays, p, ng, ray) ? 1 : 0;
+    seen += visible(rays, p, ng, ray, ignoredMesh) ? 1 : 0;
   }
   return float(seen) / kSoftShadowRays;
 }
@@ -356,14 +376,19 @@ double exitDistance(const RayScene& rays, int mesh, const glm::vec3& p, const gl
 
 // TABULATED model: the light that entered where `light` first meets the object of pixel point p
 // and crossed the part to reach p (direct_lighting.frag: transmitted); n faces the camera.
+// softEntries > 0 (the light's soft size; docs/SOFT_SHADOWS.md): opaque surfaces (`translucentHit`
+// false) between the light and the entry are passed through, and the light reaching the entry is
+// the share of the light's shape that no other object hides.
+template <typename TranslucentHit>
 glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const glm::vec3& n, const glm::vec3& view,
                       const SsLightDesc& light, const std::vector<glm::vec3>* worldDirections, const Profile& profile,
-                      float sceneSize) {
+                      float sceneSize, float softEntries, const TranslucentHit& translucentHit) {
   LightSample ls = sampleLight(light, p);
   if (ls.irradiance == glm::vec3(0.0f)) return glm::vec3(0.0f);
   float far = std::isinf(ls.distance) ? sceneSize : ls.distance;
   glm::vec3 origin = p + ls.towardsLight * far;
-  Hit hit = rays.intersect(origin, -ls.towardsLight, 0.0f, far);
+  Hit hit = softEntries > 0.0f ? firstHit(rays, origin, -ls.towardsLight, 0.0f, far, translucentHit)
+                               : rays.intersect(origin, -ls.towardsLight, 0.0f, far);
   if (!hit.valid() || hit.mesh != mesh) return glm::vec3(0.0f);
   double thickness = std::max(double(far) - double(hit.distance), 0.0);
   const WorldMesh& m = rays.meshes()[size_t(hit.mesh)];
@@ -378,6 +403,11 @@ glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const 
   thickness *= mu0;  // the slab's thickness along the entry's normal
   double scale = fresnelTransmittance(profile.eta, mu0) * mu0 * fresnelTransmittance(profile.eta, mu) *
                  slabLikeness(double(glm::dot(ne, n)));
+  if (softEntries > 0.0f) {
+    const glm::vec3 &a = m.positions[t.x], &b = m.positions[t.y], &c = m.positions[t.z];
+    glm::vec3 ng = glm::normalize(glm::cross(b - a, c - a));
+    scale *= double(softVisibility(rays, xe, ng, entry, light, softEntries, mesh));
+  }
   glm::vec3 out(0.0f);
   for (int c = 0; c < 3; ++c) {
     double tau = thickness * profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
@@ -424,6 +454,15 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   std::vector<float> softSizes;
   for (const SsLightDesc& l : lights) softSizes.push_back(lightSoftSize(l));
   auto worldOf = [&](size_t i) { return rendered.world[i] ? &rendered.worldDirections : nullptr; };
+  // A soft light's shadow on the light entering translucent objects, as renderer.cpp draws it
+  // (docs/SOFT_SHADOWS.md, "Translucent objects"): where another object can cast one, the irradiance
+  // buffer holds translucent surfaces only, and each entry takes the share of the light's shape
+  // that no other object hides.
+  std::vector<float> entrySoftness(lights.size(), 0.0f);
+  if (meshes.size() > 1) entrySoftness = softSizes;
+  auto translucentHit = [&](const Hit& h) {
+    return profiles[(*meshes[size_t(h.mesh)].materials)[h.triangle]].translucent;
+  };
 
   // 1. Cells: by area, at least one per triangle.
   double totalArea = 0.0;
@@ -506,8 +545,22 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
           if (cosGeometric <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
           float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
           float ft = float(fresnelTransmittance(profile.eta, cosShading));
-          if (ft <= 0.0f || !visible(rays, s.position, ng, ls)) continue;
-          glm::vec3 lightFlux = ls.irradiance * (cosGeometric * ft * area);
+          if (ft <= 0.0f) continue;
+          float visibility = 1.0f;
+          if (entrySoftness[li] > 0.0f) {
+            // The irradiance buffer's depth test among translucent surfaces, from the light's centre;
+            // then the share of the light's shape that no other object hides.
+            float eps = rays.epsilon();
+            float far = std::isinf(ls.distance) ? std::numeric_limits<float>::infinity()
+                                                : std::max(ls.distance - 2.0f * eps, 0.0f);
+            glm::vec3 origin = offsetOrigin(s.position, ng, ls.towardsLight, eps);
+            if (firstHit(rays, origin, ls.towardsLight, 0.0f, far, translucentHit).valid()) continue;
+            visibility = softVisibility(rays, s.position, ng, ls, lights[li], entrySoftness[li], int(tc.mesh));
+            if (visibility <= 0.0f) continue;
+          } else if (!visible(rays, s.position, ng, ls)) {
+            continue;
+          }
+          glm::vec3 lightFlux = ls.irradiance * (cosGeometric * ft * area * visibility);
           if (profile.transport) {  // the incidence factor, for the thickness the light crosses here
             if (!facing) s.normal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns, facing = true;
             // The slab's thickness along its normal (the light crossed it at cosShading), and how
@@ -643,7 +696,9 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
           for (size_t li = 0; li < lights.size(); ++li) {
             LightSample ls = sampleLight(lights[li], p);
             if (glm::dot(n, ls.towardsLight) > 0.0f && visible(rays, p, ng, ls)) continue;  // lit itself
-            color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize) * tint;
+            color += throughPart(rays, hit.mesh, p, n, view, lights[li], worldOf(li), profile, sceneSize,
+                                 entrySoftness[li], translucentHit) *
+                     tint;
           }
         if (rendered.unshadowed) {  // final_shading.frag's remainder
           glm::vec3 world = ambient * profile.world * ft * tint;
