@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <vector>
 
 #include "subsplat/subsplat.h"
@@ -97,6 +98,55 @@ class AntiAliasing : public ::testing::Test {
     }
     return count;
   }
+  // A floor (material 0) and a box on it (boxMaterial; material 1 when translucent), an opaque post
+  // when asked, seen from above, under a soft sun and a soft point light: the scene of the two tests
+  // below. Returns the largest difference of a channel between a frame of n samples and the mean of
+  // the n samples rendered one by one (first_sample = k), over the pixels `counted` accepts (x, y in
+  // the scene's units), and checks that the samples after the first drew no shadow map.
+  double samplesAgainstAlone(int n, bool translucentBox, bool post, const std::function<bool(double, double)>& counted,
+                             const char* name) {
+    SsMaterialDesc grey = testing::greyMaterial(0.6f), skin = testing::skinMaterial(50.0f);
+    EXPECT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
+    EXPECT_EQ(ssSetMaterial(context, 1, &skin), SS_OK);
+    SsMeshDesc floor = quad.desc(2.0f, 0);
+    EXPECT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
+    testing::Box box{glm::vec3(-0.3f, -0.3f, 0.0f), glm::vec3(0.3f, 0.3f, 0.6f)};
+    SsMeshDesc boxMesh = box.desc(translucentBox ? 1 : 0);
+    EXPECT_EQ(ssSetMesh(context, 1, &boxMesh), SS_OK);
+    testing::Box postBox{glm::vec3(0.5f, -0.9f, 0.0f), glm::vec3(0.7f, -0.7f, 0.8f)};
+    SsMeshDesc postMesh = postBox.desc(0);
+    if (post) EXPECT_EQ(ssSetMesh(context, 2, &postMesh), SS_OK);
+    SsCameraDesc camera = testing::topDownCamera(1.5f);
+    EXPECT_EQ(ssSetCamera(context, &camera), SS_OK);
+    SsLightDesc lights[2] = {testing::sunLight(2.0f, 40.0f), {}};
+    lights[0].soft_size = 0.05f;
+    lights[1].type = SS_LIGHT_POINT;
+    lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
+    lights[1].strength = 30.0f;
+    lights[1].position[0] = 1.0f, lights[1].position[2] = 1.5f;
+    lights[1].soft_size = 0.1f;
+    EXPECT_EQ(ssSetLights(context, lights, 2), SS_OK) << ssGetLastError();
+    std::vector<float> together = render(SS_METHOD_FULL, n), alone(together.size(), 0.0f);
+    SsStats stats{};
+    EXPECT_EQ(ssGetStats(context, &stats), SS_OK);
+    EXPECT_EQ(stats.light_views, 7) << "the samples after the first draw no shadow map";
+    for (int k = 0; k < n; ++k) {
+      std::vector<float> one = render(SS_METHOD_FULL, 1, k);
+      for (size_t i = 0; i < one.size(); ++i) alone[i] += one[i] / float(n);
+    }
+    double worst = 0.0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        if (!counted(((x + 0.5) / kSize * 2.0 - 1.0) * 1.5, ((y + 0.5) / kSize * 2.0 - 1.0) * 1.5)) continue;
+        for (int c = 0; c < 4; ++c) {
+          size_t i = (size_t(y) * kSize + x) * 4 + size_t(c);
+          worst = std::max(worst, double(std::abs(together[i] - alone[i])));
+        }
+      }
+    if (!(worst < 1e-4)) testing::writeComparison(name, together, alone, kSize, kSize);
+    return worst;
+  }
+
   // RMSE of the colour channels.
   static double rmse(const std::vector<float>& a, const std::vector<float>& b) {
     double sum = 0.0;
@@ -177,85 +227,19 @@ TEST_F(AntiAliasing, CarriedExitanceAgreesWithSplattingEverySample) {
 // samples rendered one by one (first_sample = k), to float rounding, with the shadow maps of every
 // light view (a point light's six, a sun's) kept from the first sample and soft shadows.
 TEST_F(AntiAliasing, OpaqueSamplesAreTheMeanOfTheSamplesRenderedAlone) {
-  SsMaterialDesc grey = testing::greyMaterial(0.6f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
-  SsMeshDesc floor = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
-  testing::Box box{glm::vec3(-0.3f, -0.3f, 0.0f), glm::vec3(0.3f, 0.3f, 0.6f)};
-  SsMeshDesc boxMesh = box.desc(0);
-  ASSERT_EQ(ssSetMesh(context, 1, &boxMesh), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(1.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsLightDesc lights[2] = {testing::sunLight(2.0f, 40.0f), {}};
-  lights[0].soft_size = 0.05f;
-  lights[1].type = SS_LIGHT_POINT;
-  lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
-  lights[1].strength = 30.0f;
-  lights[1].position[0] = 1.0f, lights[1].position[2] = 1.5f;
-  lights[1].soft_size = 0.1f;
-  ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK) << ssGetLastError();
-  const int n = 5;
-  std::vector<float> together = render(SS_METHOD_FULL, n), alone(together.size(), 0.0f);
-  SsStats stats{};
-  ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
-  EXPECT_EQ(stats.light_views, 7) << "the samples after the first draw no shadow map";
-  for (int k = 0; k < n; ++k) {
-    std::vector<float> one = render(SS_METHOD_FULL, 1, k);
-    for (size_t i = 0; i < one.size(); ++i) alone[i] += one[i] / float(n);
-  }
-  double worst = 0.0;
-  for (size_t i = 0; i < alone.size(); ++i) worst = std::max(worst, double(std::abs(together[i] - alone[i])));
-  if (!(worst < 1e-4)) testing::writeComparison("antialiasing_opaque", together, alone, kSize, kSize);
+  double worst = samplesAgainstAlone(5, false, false, [](double, double) { return true; }, "antialiasing_opaque");
   EXPECT_LT(worst, 1e-4) << "largest difference of a channel";
 }
 
-// The same with the box translucent (docs/SOFT_SHADOWS.md, "Translucent objects"): the soft lights'
-// irradiance buffers hold the box alone and their maps of every surface are drawn apart, and the
-// samples after the first read copies of those too. On the floor, outside the box (whose pixels
-// carry the first sample's exitance), the frame is the mean of the samples rendered alone.
+// The same with the box translucent and an opaque post beside it (docs/SOFT_SHADOWS.md,
+// "Translucent objects"): the soft lights' irradiance buffers hold the box alone, their maps of
+// every surface (the post's shadows) are drawn apart, and the samples after the first read copies
+// of those too. On the floor, outside the box (whose pixels carry the first sample's exitance),
+// the frame is the mean of the samples rendered alone.
 TEST_F(AntiAliasing, OpaqueSamplesBesideATranslucentObjectAreTheMeanOfTheSamplesRenderedAlone) {
-  SsMaterialDesc grey = testing::greyMaterial(0.6f), skin = testing::skinMaterial(50.0f);
-  ASSERT_EQ(ssSetMaterial(context, 0, &grey), SS_OK);
-  ASSERT_EQ(ssSetMaterial(context, 1, &skin), SS_OK);
-  SsMeshDesc floor = quad.desc(2.0f, 0);
-  ASSERT_EQ(ssSetMesh(context, 0, &floor), SS_OK);
-  testing::Box box{glm::vec3(-0.3f, -0.3f, 0.0f), glm::vec3(0.3f, 0.3f, 0.6f)};
-  SsMeshDesc boxMesh = box.desc(1);
-  ASSERT_EQ(ssSetMesh(context, 1, &boxMesh), SS_OK);
-  // An opaque post, whose shadows are in the maps of every surface and not in the irradiance buffers.
-  testing::Box post{glm::vec3(0.5f, -0.9f, 0.0f), glm::vec3(0.7f, -0.7f, 0.8f)};
-  SsMeshDesc postMesh = post.desc(0);
-  ASSERT_EQ(ssSetMesh(context, 2, &postMesh), SS_OK);
-  SsCameraDesc camera = testing::topDownCamera(1.5f);
-  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
-  SsLightDesc lights[2] = {testing::sunLight(2.0f, 40.0f), {}};
-  lights[0].soft_size = 0.05f;
-  lights[1].type = SS_LIGHT_POINT;
-  lights[1].color[0] = lights[1].color[1] = lights[1].color[2] = 1.0f;
-  lights[1].strength = 30.0f;
-  lights[1].position[0] = 1.0f, lights[1].position[2] = 1.5f;
-  lights[1].soft_size = 0.1f;
-  ASSERT_EQ(ssSetLights(context, lights, 2), SS_OK) << ssGetLastError();
-  const int n = 3;
-  std::vector<float> together = render(SS_METHOD_FULL, n), alone(together.size(), 0.0f);
-  SsStats stats{};
-  ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
-  EXPECT_EQ(stats.light_views, 7) << "the samples after the first draw no shadow map";
-  for (int k = 0; k < n; ++k) {
-    std::vector<float> one = render(SS_METHOD_FULL, 1, k);
-    for (size_t i = 0; i < one.size(); ++i) alone[i] += one[i] / float(n);
-  }
-  double worst = 0.0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
-      double u = ((x + 0.5) / kSize * 2.0 - 1.0) * 1.5, v = ((y + 0.5) / kSize * 2.0 - 1.0) * 1.5;
-      if (std::abs(u) < 0.45 && std::abs(v) < 0.45) continue;  // the box and the pixels its edge touches
-      for (int c = 0; c < 4; ++c) {
-        size_t i = (size_t(y) * kSize + x) * 4 + size_t(c);
-        worst = std::max(worst, double(std::abs(together[i] - alone[i])));
-      }
-    }
-  if (!(worst < 1e-4)) testing::writeComparison("antialiasing_beside_translucent", together, alone, kSize, kSize);
+  // Outside the box and the pixels its edge touches.
+  auto floor = [](double x, double y) { return std::abs(x) >= 0.45 || std::abs(y) >= 0.45; };
+  double worst = samplesAgainstAlone(3, true, true, floor, "antialiasing_beside_translucent");
   EXPECT_LT(worst, 1e-4) << "largest difference of a channel on the floor";
 }
 

@@ -68,6 +68,34 @@ class SoftShadow : public ::testing::Test {
     };
     return (crossing(0.9) - crossing(0.1)) * 4.0 / kSize;
   }
+  // The penumbra's width (penumbraWidth) in FULL and REFERENCE under `light`, and in FULL under the
+  // same light made hard; printed after `what`.
+  struct Widths {
+    double full, reference, hard;
+  };
+  Widths widths(SsLightDesc light, const char* what) {
+    Widths w{penumbraWidth(SS_METHOD_FULL, light), penumbraWidth(SS_METHOD_REFERENCE, light), 0.0};
+    light.soft_size = 0.0f;
+    w.hard = penumbraWidth(SS_METHOD_FULL, light);
+    std::printf("%s penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f, hard %.3f\n", what, w.full, w.reference, w.hard);
+    return w;
+  }
+  // A sun at 45 degrees with a 10-degree disk.
+  static SsLightDesc softSun() {
+    SsLightDesc sun = testing::sunLight(3.0f, 45.0f);
+    sun.soft_size = float(10.0 * M_PI / 180.0);
+    return sun;
+  }
+  // A point light 3 units above the floor and 0.8 to the side of the box, radius 0.3.
+  static SsLightDesc softPoint() {
+    SsLightDesc point{};
+    point.type = SS_LIGHT_POINT;
+    point.color[0] = point.color[1] = point.color[2] = 1.0f;
+    point.strength = 400.0f;
+    point.position[0] = -0.8f, point.position[2] = 3.0f;
+    point.soft_size = 0.3f;
+    return point;
+  }
   // A box of 1 x 1 x 1 on the floor, centred on the origin.
   void setBox() {
     SsMeshDesc mesh = box.desc(0);
@@ -84,31 +112,19 @@ class SoftShadow : public ::testing::Test {
 // units up the light's ray; the penumbra is 1.41 x 0.175 across the light, 0.35 along the floor
 // (1 / cos 45), of which a disk's 10-90 % is about 0.63 (0.22).
 TEST_F(SoftShadow, SunPenumbraMatchesReference) {
-  SsLightDesc sun = testing::sunLight(3.0f, 45.0f);
-  sun.soft_size = float(10.0 * M_PI / 180.0);
-  double full = penumbraWidth(SS_METHOD_FULL, sun), reference = penumbraWidth(SS_METHOD_REFERENCE, sun);
-  sun.soft_size = 0.0f;
-  double hard = penumbraWidth(SS_METHOD_FULL, sun);
-  std::printf("sun penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f, hard %.3f (geometry: 0.35 wide)\n", full, reference, hard);
-  EXPECT_NEAR(full / reference, 1.0, 0.15);
-  EXPECT_GT(reference, 0.15);
-  EXPECT_LT(reference, 0.35);
-  EXPECT_LT(hard, 0.1);
+  Widths w = widths(softSun(), "sun (geometry: 0.35 wide)");
+  EXPECT_NEAR(w.full / w.reference, 1.0, 0.15);
+  EXPECT_GT(w.reference, 0.15);
+  EXPECT_LT(w.reference, 0.35);
+  EXPECT_LT(w.hard, 0.1);
 }
 
-// A point light 3 units above the floor and 0.8 to the side of the box, radius 0.3: the shadow's
-// far edge is inside the cube map's -z face (a percentage-closer filter does not cross faces).
+// The point light: the shadow's far edge is inside the cube map's -z face (a percentage-closer
+// filter does not cross faces).
 TEST_F(SoftShadow, PointLightPenumbraMatchesReference) {
-  SsLightDesc point{};
-  point.type = SS_LIGHT_POINT;
-  point.color[0] = point.color[1] = point.color[2] = 1.0f;
-  point.strength = 400.0f;
-  point.position[0] = -0.8f, point.position[2] = 3.0f;
-  point.soft_size = 0.3f;
-  double full = penumbraWidth(SS_METHOD_FULL, point), reference = penumbraWidth(SS_METHOD_REFERENCE, point);
-  std::printf("point penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f\n", full, reference);
-  EXPECT_NEAR(full / reference, 1.0, 0.15);
-  EXPECT_GT(reference, 0.1);
+  Widths w = widths(softPoint(), "point");
+  EXPECT_NEAR(w.full / w.reference, 1.0, 0.15);
+  EXPECT_GT(w.reference, 0.1);
 }
 
 // The same box over a translucent floor (Skin1 at 100 mm a unit: its light spreads about 0.04
@@ -128,33 +144,79 @@ class TranslucentFloorSoftShadow : public SoftShadow {
 };
 
 TEST_F(TranslucentFloorSoftShadow, PointLightPenumbraMatchesReference) {
-  SsLightDesc point{};
-  point.type = SS_LIGHT_POINT;
-  point.color[0] = point.color[1] = point.color[2] = 1.0f;
-  point.strength = 400.0f;
-  point.position[0] = -0.8f, point.position[2] = 3.0f;
-  point.soft_size = 0.3f;
-  double full = penumbraWidth(SS_METHOD_FULL, point), reference = penumbraWidth(SS_METHOD_REFERENCE, point);
-  point.soft_size = 0.0f;
-  double hard = penumbraWidth(SS_METHOD_FULL, point);
-  std::printf("translucent floor, point penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f, hard %.3f\n", full, reference,
-              hard);
-  EXPECT_NEAR(full / reference, 1.0, 0.15);
-  EXPECT_GT(reference, 0.1);
-  EXPECT_LT(hard, 0.5 * reference);
+  Widths w = widths(softPoint(), "translucent floor, point");
+  EXPECT_NEAR(w.full / w.reference, 1.0, 0.15);
+  EXPECT_GT(w.reference, 0.1);
+  EXPECT_LT(w.hard, 0.5 * w.reference);
 }
 
 TEST_F(TranslucentFloorSoftShadow, SunPenumbraMatchesReference) {
-  SsLightDesc sun = testing::sunLight(3.0f, 45.0f);
-  sun.soft_size = float(10.0 * M_PI / 180.0);
-  double full = penumbraWidth(SS_METHOD_FULL, sun), reference = penumbraWidth(SS_METHOD_REFERENCE, sun);
-  sun.soft_size = 0.0f;
-  double hard = penumbraWidth(SS_METHOD_FULL, sun);
-  std::printf("translucent floor, sun penumbra 10-90 %%: FULL %.3f, REFERENCE %.3f, hard %.3f\n", full, reference,
-              hard);
-  EXPECT_NEAR(full / reference, 1.0, 0.15);
-  EXPECT_GT(reference, 0.15);
-  EXPECT_LT(hard, 0.5 * reference);
+  Widths w = widths(softSun(), "translucent floor, sun");
+  EXPECT_NEAR(w.full / w.reference, 1.0, 0.15);
+  EXPECT_GT(w.reference, 0.15);
+  EXPECT_LT(w.hard, 0.5 * w.reference);
+}
+
+// A translucent sphere beside an opaque box that hides none of the light from it, under a point
+// light: with a radius, the light entering the sphere takes the soft-entry path (the box is another
+// object: the irradiance buffer without it, every entry filtered on the map of every surface), and
+// with nothing in the way that changes nothing: the sphere renders as under the same light without a
+// radius, in FULL and in REFERENCE (which then traces past its own surfaces). Small and cheap: it
+// runs under the sanitizers, where the penumbra tests above do not.
+TEST(SoftEntries, NothingInTheWayLeavesTheLightEnteringUnchanged) {
+  testing::EglContext gl;
+  SsContext context = nullptr;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  SsMaterialDesc skin = testing::skinMaterial(20.0f), grey = testing::greyMaterial(0.5f);
+  skin.specular = 0.0f;
+  ASSERT_EQ(ssSetMaterial(context, 0, &skin), SS_OK);
+  ASSERT_EQ(ssSetMaterial(context, 1, &grey), SS_OK);
+  testing::Sphere sphere{32, 16};
+  SsMeshDesc ball = sphere.desc(glm::vec3(0.0f), 0.5f, 0);
+  ASSERT_EQ(ssSetMesh(context, 0, &ball), SS_OK);
+  testing::Box box{glm::vec3(1.5f, -0.2f, -0.5f), glm::vec3(1.9f, 0.2f, -0.1f)};
+  SsMeshDesc boxMesh = box.desc(1);
+  ASSERT_EQ(ssSetMesh(context, 1, &boxMesh), SS_OK);
+  SsCameraDesc camera = testing::topDownCamera(1.0f);
+  ASSERT_EQ(ssSetCamera(context, &camera), SS_OK);
+  SsLightDesc point{};
+  point.type = SS_LIGHT_POINT;
+  point.color[0] = point.color[1] = point.color[2] = 1.0f;
+  point.strength = 100.0f;
+  point.position[0] = -1.0f, point.position[2] = 2.0f;
+  constexpr int kSize = 32;
+  auto render = [&](int method, float radius) {
+    point.soft_size = radius;
+    EXPECT_EQ(ssSetLights(context, &point, 1), SS_OK);
+    SsSettings settings = ssDefaultSettings();
+    settings.method = method;
+    settings.irradiance_resolution = 128;
+    settings.reference_samples = 5000;
+    settings.samples = 1;
+    EXPECT_EQ(ssSetSettings(context, &settings), SS_OK);
+    std::vector<float> rgba(size_t(kSize) * kSize * 4);
+    EXPECT_EQ(ssRender(context, kSize, kSize, rgba.data()), SS_OK) << ssGetLastError();
+    return rgba;
+  };
+  for (int method : {SS_METHOD_FULL, SS_METHOD_REFERENCE}) {
+    std::vector<float> soft = render(method, 0.3f), hard = render(method, 0.0f);
+    double difference = 0.0, total = 0.0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        double u = ((x + 0.5) / kSize * 2.0 - 1.0), v = ((y + 0.5) / kSize * 2.0 - 1.0);
+        if (u * u + v * v > 0.45 * 0.45) continue;  // the sphere's pixels, away from its outline
+        for (int c = 0; c < 3; ++c) {
+          size_t i = (size_t(y) * kSize + x) * 4 + size_t(c);
+          difference += std::abs(double(soft[i]) - double(hard[i]));
+          total += hard[i];
+        }
+      }
+    std::printf("method %d: soft against hard on the sphere, mean difference %.2e of the mean\n", method,
+                difference / total);
+    EXPECT_GT(total, 0.0);
+    EXPECT_LT(difference / total, 0.005) << "method " << method;
+  }
+  ssReleaseContext(context);
 }
 
 }  // namespace
