@@ -126,6 +126,9 @@ def arguments():
     parser.add_argument("--percentage", type=int, default=25, help="resolution percentage of the 800x600 scenes")
     parser.add_argument("--samples", type=int, default=200000, help="REFERENCE surface samples")
     parser.add_argument("--runs", type=int, default=3, help="replay renders per SubSplat point (median)")
+    parser.add_argument("--warmup", type=int, default=1,
+                        help="replay renders before the timed ones (0: the first frame is timed, shader and "
+                             "kernel-table set-up included; fragment counts are the same)")
     parser.add_argument("--eevee-samples", dest="eevee", type=int, nargs="+", default=[1, 4, 16, 64], help="EEVEE render samples")
     parser.add_argument("--cycles-samples", dest="cycles", type=int, nargs="+", default=[4, 16, 64, 256], help="Cycles samples")
     parser.add_argument("--twin-samples", dest="twin", type=int, nargs="*", default=[1, 4, 16, 64, 256],
@@ -294,7 +297,7 @@ def replay(args, name, scene, truth, mask, directory, sweep_points, physical_tru
         images = os.path.join(directory, f"{name}_{what}_{alpha:g}")
         os.makedirs(images, exist_ok=True)
         report = os.path.join(images, "report.json")
-        command = [args.replay, "--warmup", "1", "--runs", str(args.runs), "--no-reference",
+        command = [args.replay, "--warmup", str(args.warmup), "--runs", str(args.runs), "--no-reference",
                    "--irradiance", "auto" if irradiance == 0 else str(irradiance),
                    "--alpha", str(alpha), "--methods", ",".join(entries), "--images", images, "--json", report,
                    scene.subsplat.scene_file]
@@ -590,7 +593,7 @@ def write_document(args, results):
              "SubSplat's speed is measured against.", "",
              "Time: SubSplat, the median of "
              f"{args.runs} frames replayed in one native context (what a viewport frame costs, export aside), "
-             "after a warm-up frame; EEVEE, Cycles Principled and the twin, the wall time of a Blender render "
+             f"after {args.warmup} warm-up frame{'' if args.warmup == 1 else 's'}; EEVEE, Cycles Principled and the twin, the wall time of a Blender render "
              "after a first one; REFERENCE, the wall time of its render (both passes).",
              "Stars mark SubSplat's default settings: AUTO at its 1 % target (the default quality, docs/AUTO.md) "
              "and the manual quality's defaults (512² irradiance, automatic levels, alpha 15, epsilon 0.001); "

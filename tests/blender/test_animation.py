@@ -112,12 +112,12 @@ class AnimationRendersAreDeterministic(unittest.TestCase):
 
     def test_modifier_deformed_heterogeneous_candle(self):
         path = os.path.join(helpers.SOURCE, "example_blends", "candle_twist.blend")
-        sequence, singles = self.render_sequence_and_singles("candle", path, [1, 17, 33])
+        sequence, singles = self.render_sequence_and_singles("candle", path, [1, 33])
         self.assert_same("candle", sequence, singles, SAME_FRAME_BOUND)
 
     def test_armature_and_shape_key_finger(self):
         path = os.path.join(helpers.SOURCE, "example_blends", "finger_pose.blend")
-        sequence, singles = self.render_sequence_and_singles("finger", path, [1, 12, 23])
+        sequence, singles = self.render_sequence_and_singles("finger", path, [1, 23])
         self.assert_same("finger", sequence, singles, SAME_FRAME_BOUND)
 
     def test_vertex_count_changing_every_frame(self):

@@ -115,7 +115,7 @@ class StabilityBounds(unittest.TestCase):
             scene.render.engine = "SUBSPLAT"
             stability_cases.apply(scene, scale.settings)
             for method in ("REFERENCE", "BRUTE", "FULL"):
-                images[label, method] = accuracy.render_passes(scene, method, 20000)[0]
+                images[label, method] = accuracy.render_passes(scene, method, 5000)[0]
         for label, _ in scale.setups:
             for method in ("REFERENCE", "BRUTE", "FULL"):
                 ours, unit = images[label, method], images["x1", method]
