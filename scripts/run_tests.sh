@@ -11,12 +11,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${SUBSPLAT_TEST_JOBS:-$(nproc)}
+stage() { echo "[run_tests] $1: ${SECONDS} s since the start"; }
 bash scripts/setup.sh
+stage "set-up and build/ done"
 # Every test of build/ in one CTest run, two at a time: the longest Blender tests first (their COST),
 # the short native ones filling the gaps. A Blender test keeps 1.3 cores busy on average (start-up,
 # Python and the kernel tables are single-threaded), so two at once took 651 s where one at a time
 # took 926 s (docs/CI.md, 2026-12-03).
 (cd build && ctest -L '^(unit|native-gl|blender|ui|bpy)$' -j"$jobs" --output-on-failure)
+stage "build/ tests done"
 
 # Under the sanitizers, every native test but thirteen that render one scene at many sizes or sample
 # counts, or evaluate one model over many parameters, to check numbers (11-35 s each under ASan):
@@ -29,6 +32,7 @@ SANITIZED_SKIP='^(Multires\.AutomaticResolutionFollowsTheRangeAndTheTarget|Refer
 CC=clang CXX=clang++ cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUBSPLAT_SANITIZE=ON \
   -DSUBSPLAT_FUZZ=ON > /dev/null
 cmake --build build-san -j"$(nproc)" --target subsplat_tests fuzz_subedit_file fuzz_scene_input
+stage "build-san/ built"
 (cd build-san &&
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:intercept_tls_get_addr=0 \
   LSAN_OPTIONS="suppressions=$PWD/../tests/sanitizers/lsan.supp:print_suppressions=0" \
@@ -37,3 +41,4 @@ cmake --build build-san -j"$(nproc)" --target subsplat_tests fuzz_subedit_file f
 for log in build-san/fuzz_*/fuzz.log; do
   echo "$log: $(grep -E '^stat::(number_of_executed_units|peak_rss_mb)' "$log" | tr '\n' ' ')"
 done
+stage "sanitized tests and fuzzers done"

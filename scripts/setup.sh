@@ -18,12 +18,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
+# Blender 4.2 LTS, 4.5 LTS and 5.x as the `bpy` module, one virtual environment each under build/
+# (scripts/setup_bpy.sh; installed once, then kept). They download and unpack (at nice 19) while
+# the library compiles: a fresh clone's set-up waited for them after the build before.
+mkdir -p build
+bash scripts/setup_bpy.sh &
+bpy_setup=$!
+
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$(nproc)"
-
-# Blender 4.2 LTS, 4.5 LTS and 5.x as the `bpy` module, one virtual environment each under build/
-# (scripts/setup_bpy.sh; installed once, then kept).
-bash scripts/setup_bpy.sh
+wait "$bpy_setup"
 
 # The example SubEdit materials (example_blends/make_materials.py), made where missing.
 BLENDER_USER_SCRIPTS="$PWD/build/scripts" blender -b --factory-startup --addons subsplat \
