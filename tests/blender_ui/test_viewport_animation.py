@@ -24,9 +24,11 @@ from subsplat_testing.ui_helpers import (areas, check, crop_region, drawn, enabl
 
 SOURCE = os.environ.get("SUBSPLAT_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
 EXAMPLE = os.path.join(SOURCE, "example_blends", "finger_pose.blend")
-# CI: 150 redraws (memory bounded over the last 100; at 200, 720.7 MiB after 50 and 719.7 after 200,
-# slope 4.2 KiB per redraw, AMD EPYC 2026-12-04); the slow tier (SUBSPLAT_SLOW=1): 1000.
-REDRAWS = 1000 if os.environ.get("SUBSPLAT_SLOW") == "1" else 150
+# CI: 100 redraws, the memory's growth bounded over the last 50 (at 200: 720.7 MiB after 50 and 719.7
+# after 200, AMD EPYC 2026-12-04); the slow tier (SUBSPLAT_SLOW=1): 1000, and its slope bounded too
+# (as test_soak.py: a slope over a few dozen redraws is the noise of one allocator step).
+SLOW = os.environ.get("SUBSPLAT_SLOW") == "1"
+REDRAWS = 1000 if SLOW else 100
 
 
 def resident_bytes():
@@ -142,7 +144,8 @@ def steps():
           f"after 50, {settled[-1] / 2**20:.1f} after {REDRAWS}; slope {slope / 1024:.1f} KiB per redraw; "
           f"last update {final['update_ms']:.0f} ms, draw {final['draw_ms']:.0f} ms", flush=True)
     check(growth < 24 * 2**20, f"memory stays flat over the last {REDRAWS - 50} redraws (+{growth / 2**20:.1f} MiB)")
-    check(slope < 48 * 1024, f"memory has no steady slope ({slope / 1024:.1f} KiB per redraw)")
+    if SLOW:
+        check(slope < 48 * 1024, f"memory has no steady slope ({slope / 1024:.1f} KiB per redraw)")
 
     view = rendered_view(scene)
     view.shading.type = "SOLID"
