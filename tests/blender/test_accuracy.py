@@ -1,8 +1,9 @@
 """Accuracy against REFERENCE, the ruler (docs/ACCURACY.md).
 
-- BRUTE on the example scenes (CI: two of the three, EXAMPLES): relative RMSE of radiance and of exitance under bounds,
-  so that a regression of BRUTE shows up here; FULL (the paper's method) within 1.5x BRUTE. Strips (BRUTE | REFERENCE | error x10) are
-  written to the test output for a person to look at.
+- BRUTE on the example scenes (CI: two of the three, EXAMPLES): relative RMSE of radiance and of
+  exitance under bounds, so that a regression of BRUTE shows up here; FULL (the paper's method)
+  within 1.5x BRUTE. Strips (BRUTE | REFERENCE | error x10) are written to the test output for a
+  person to look at.
 - REFERENCE against Cycles' random walk on slabs of Marble and Skin1: loose ranges that
   catch unit and radiometry mistakes (factors), not model differences (percents).
 """
