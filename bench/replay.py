@@ -69,27 +69,38 @@ def tables(report, ranges=None):
         for label, m in methods.items():
             label = label.replace(":0", " (automatic levels)")
             fragments = m["fragment_invocations"]["total"]
+            counted = m.get("statistics_available", True)  # false: the driver's counts were no counts
             speed = brute["median_frame_ms"] / m["median_frame_ms"] if brute else float("nan")
-            ratio = brute["fragment_invocations"]["total"] / max(fragments, 1) if brute else float("nan")
+            ratio_text = "-"
+            if brute and counted and brute.get("statistics_available", True):
+                ratio_text = f"{brute['fragment_invocations']['total'] / max(fragments, 1):.2f}x"
             rmse = f"{m['relative_rmse']:.4f}" if "relative_rmse" in m else "-"
             b_rmse = f"{m['exitance_relative_rmse']:.4f}" if "exitance_relative_rmse" in m else "-"
+            fragments_text = f"{fragments / 1e6:.0f} M" if counted else "-"
             one.append(f"| {name} | {span_text} | {label} | {m['levels']} / {m['splat_levels']} | "
-                       f"{m['median_frame_ms']:.0f} | {speed:.2f}x | {fragments / 1e6:.0f} M | {ratio:.2f}x | "
+                       f"{m['median_frame_ms']:.0f} | {speed:.2f}x | {fragments_text} | {ratio_text} | "
                        f"{rmse} | {b_rmse} |")
-            total = sum(m["stage_ms"].values())
+            total = sum(m["stage_ms"].values()) if m.get("timers_available", True) else 0.0
             levels = " / ".join(_share(t, total) for t in m["splat_level_ms"])
-            level_fragments = " / ".join(f"{f / 1e6:.0f}" for f in m["splat_level_fragments"])
+            level_fragments = " / ".join(f"{f / 1e6:.0f}" for f in m["splat_level_fragments"]) if counted else "-"
+            if not total:
+                two.append(f"| {name} | {label} | - | - | - | - | - | {level_fragments} |")
+                continue
             two.append(f"| {name} | {label} | {_share(m['stage_ms']['buffers'], total)} | {levels} | "
                        f"{_share(m['accumulation_ms'], total)} | {_share(m['stage_ms']['shading'], total)} | "
                        f"{_share(m['stage_ms']['readback'], total)} | {level_fragments} |")
         full = methods.get("FULL")
         if span and brute and full and span[1] > 0.1:
             speed = brute["median_frame_ms"] / full["median_frame_ms"]
-            ratio = brute["fragment_invocations"]["total"] / max(full["fragment_invocations"]["total"], 1)
-            met = ratio >= 5.0 and speed >= 3.0
-            verdicts.append(f"- {name} (longest R_P {span[1]:.2f} of the bounding radius): FULL does "
-                            f"{ratio:.1f}x fewer fragment invocations and is {speed:.1f}x faster than BRUTE: "
-                            f"target (5x, 3x) {'met' if met else 'missed'}.")
+            if brute.get("statistics_available", True) and full.get("statistics_available", True):
+                ratio = brute["fragment_invocations"]["total"] / max(full["fragment_invocations"]["total"], 1)
+                met = ratio >= 5.0 and speed >= 4.0
+                verdicts.append(f"- {name} (longest R_P {span[1]:.2f} of the bounding radius): FULL does "
+                                f"{ratio:.1f}x fewer fragment invocations and is {speed:.1f}x faster than BRUTE: "
+                                f"target (5x, 4x) {'met' if met else 'missed'}.")
+            else:
+                verdicts.append(f"- {name} (longest R_P {span[1]:.2f} of the bounding radius): FULL is "
+                                f"{speed:.1f}x faster than BRUTE; the driver's fragment counts were no counts.")
     return one, two, verdicts
 
 

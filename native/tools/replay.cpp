@@ -356,9 +356,15 @@ void printTable(const SceneResults& scene) {
     char rmse[32] = "-";
     if (r.hasErrors) std::snprintf(rmse, sizeof rmse, "%.5f", r.errors.radiance);
     double speedUp = base ? base->medianMs / r.medianMs : 0.0;
-    double ratio = base ? double(totalFragments(base->fastest)) / double(std::max<uint64_t>(totalFragments(st), 1)) : 0.0;
-    std::printf("%-12s %6s %10.0f %7.2fx %9.0fM %7.2fx %9s  %s\n", r.variant.label.c_str(), levels.c_str(),
-                r.medianMs, speedUp, double(totalFragments(st)) / 1e6, ratio, rmse, perLevel.c_str());
+    // A driver's counts or times that are not counts or times (stage_profiler.h) show as "-".
+    char fragments[32] = "-", ratio[32] = "-";
+    if (st.statistics_available) std::snprintf(fragments, sizeof fragments, "%.0fM", double(totalFragments(st)) / 1e6);
+    if (st.statistics_available && base && base->fastest.statistics_available)
+      std::snprintf(ratio, sizeof ratio, "%.2fx",
+                    double(totalFragments(base->fastest)) / double(std::max<uint64_t>(totalFragments(st), 1)));
+    if (!st.timers_available) perLevel = "-";
+    std::printf("%-12s %6s %10.0f %7.2fx %10s %8s %9s  %s\n", r.variant.label.c_str(), levels.c_str(), r.medianMs,
+                speedUp, fragments, ratio, rmse, perLevel.c_str());
   }
 }
 
@@ -380,7 +386,9 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     jsonList<double>(json, int(r.runs.size()), [&](int i) { return r.runs[size_t(i)].frame_ms; });
     json << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels
          << ", \"irradiance_resolution\": " << st.irradiance_resolution
-         << ", \"texels_per_range\": " << st.texels_per_range << ", \"stage_ms\": {";
+         << ", \"texels_per_range\": " << st.texels_per_range
+         << ", \"timers_available\": " << (st.timers_available ? "true" : "false")
+         << ", \"statistics_available\": " << (st.statistics_available ? "true" : "false") << ", \"stage_ms\": {";
     for (int k = 0; k < SS_STAGE_COUNT; ++k) json << (k ? ", " : "") << "\"" << kStageNames[k] << "\": " << st.stage_ms[k];
     json << "}, \"fragment_invocations\": {";
     for (int k = 0; k < SS_STAGE_COUNT; ++k) json << "\"" << kStageNames[k] << "\": " << st.fragment_invocations[k] << ", ";

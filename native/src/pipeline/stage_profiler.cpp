@@ -52,10 +52,15 @@ void StageProfiler::collect(SsStats& stats) {
   bool timesValid = timers_;
   for (GLuint64 ns : nanoseconds)
     if (double(ns) * 1e-6 > 1.5 * wallMs + 1.0) timesValid = false;
+  std::vector<GLuint64> counts(spans_.size(), 0);
+  if (statistics_)
+    for (size_t i = 0; i < spans_.size(); ++i) glGetQueryObjectui64v(fragments_[i].id(), GL_QUERY_RESULT, &counts[i]);
+  bool countsValid = statistics_;
+  for (GLuint64 n : counts)
+    if (double(n) > kMaxFragmentsPerSecond * wallMs * 1e-3 + 1e9) countsValid = false;
   for (size_t i = 0; i < spans_.size(); ++i) {
     const Span& span = spans_[i];
-    GLuint64 fragments = 0;
-    if (statistics_) glGetQueryObjectui64v(fragments_[i].id(), GL_QUERY_RESULT, &fragments);
+    GLuint64 fragments = countsValid ? counts[i] : 0;
     double ms = timesValid ? double(nanoseconds[i]) * 1e-6 : 0.0;
     stats.stage_ms[span.stage] += ms;
     stats.fragment_invocations[span.stage] += fragments;
@@ -68,7 +73,7 @@ void StageProfiler::collect(SsStats& stats) {
     }
   }
   stats.timers_available = timesValid;
-  stats.statistics_available = statistics_;
+  stats.statistics_available = countsValid;
   spans_.clear();
 }
 

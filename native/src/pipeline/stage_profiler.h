@@ -24,7 +24,12 @@ class StageProfiler {
   // Waits for the results and adds them to stats. Timer results longer than the frame's wall time
   // since newFrame() are not times (llvmpipe's first query in a context has reported the time since
   // boot): the frame's times are then left out and timers_available is 0.
+  // Fragment counts above kMaxFragmentsPerSecond over the frame's wall time are not counts either
+  // (NVIDIA's driver 580 returned 2^64 - 2.7e10 for a 13-second splatting draw on an H200,
+  // docs/BENCHMARKS.md, "On a GPU"): the frame's counts are then left out and
+  // statistics_available is 0.
   void collect(SsStats& stats);
+  static constexpr double kMaxFragmentsPerSecond = 1e12;  // about ten times today's largest GPUs
 
  private:
   struct Span {

@@ -3,7 +3,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#ifdef SUBSPLAT_HAS_OPENIMAGEIO
 #include <OpenImageIO/imageio.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -181,11 +183,13 @@ std::string writeComparison(const std::string& name, const std::vector<float>& o
         for (int k = 0; k < 3; ++k) bytes[(size_t(y) * width + x) * 3 + size_t(k)] = uint8_t(std::lround(255.0f * c[k]));
       }
     std::string path = (folder / (name + "_" + suffix + ".png")).string();
+#ifdef SUBSPLAT_HAS_OPENIMAGEIO  // the tests' pictures; a replay-only build has no tests
     auto out = OIIO::ImageOutput::create(path);
     if (out && out->open(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8))) {
       out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
       out->close();
     }
+#endif
     return path;
   };
   auto display = [](float v) { return std::pow(std::max(v, 0.0f), 1.0f / 2.2f); };
