@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 17  # SS_API_VERSION of subsplat.h
+API_VERSION = 18  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -145,7 +145,8 @@ class Stats(ctypes.Structure):
                 ("splat_level_fragments", ctypes.c_uint64 * 8), ("accumulation_ms", ctypes.c_double),
                 ("accumulation_fragments", ctypes.c_uint64), ("irradiance_resolution", ctypes.c_int32),
                 ("texels_per_range", ctypes.c_float), ("samples", ctypes.c_int32),
-                ("shadow_resolution", ctypes.c_int32)]
+                ("shadow_resolution", ctypes.c_int32), ("splatting_complete", ctypes.c_int32),
+                ("splatting_progress", ctypes.c_float)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -254,6 +255,7 @@ def _declare(lib):
         "ssSetSettings": [handle, ctypes.POINTER(Settings)],
         "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssGetStats": [handle, ctypes.POINTER(Stats)],
+        "ssSetSplatBudget": [handle, ctypes.c_uint64],
         "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
         "ssGetProfileInfo": [ctypes.POINTER(MaterialDesc), ctypes.POINTER(ProfileInfo)],
@@ -618,6 +620,11 @@ class Context:
         """settings: export.data.Settings."""
         _check(library().ssSetSettings(self._handle, ctypes.byref(_settings(settings))))
 
+    def set_splat_budget(self, fragments):
+        """At most this many splatting fragment invocations per render (0: none); a render that
+        stops at it is continued by the next while nothing changes (stats()["splatting_complete"])."""
+        _check(library().ssSetSplatBudget(self._handle, int(fragments)))
+
     def save_scene(self, path):
         """Writes what this context was given to a scene file (docs/SCENE_FILE.md)."""
         _check(library().ssSaveScene(self._handle, os.fsencode(path)))
@@ -676,4 +683,5 @@ class Context:
             "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
             "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
             "samples": s.samples, "shadow_resolution": s.shadow_resolution,
+            "splatting_complete": bool(s.splatting_complete), "splatting_progress": s.splatting_progress,
         }

@@ -82,6 +82,12 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Viewport Samples", default=8, min=1, max=1024, soft_max=64,
         description="Anti-aliasing in the viewport: each redraw adds one jittered sample, up to this many; any "
                     "change starts again from the first")
+    viewport_budget: FloatProperty(
+        name="Viewport Budget", default=200.0, min=0.0, max=1e6, soft_max=2000.0, unit="NONE",
+        description="Splatting work per viewport redraw, in millions of fragments: a redraw that reaches it "
+                    "shows what it has and the next goes on, until the image is complete (then the samples "
+                    "go on). 200 is about 50 ms on a small GPU (docs/VIEWPORT.md); 0 renders each sample "
+                    "whole, however long it takes")
     shadow_resolution: IntProperty(
         name="Shadow Resolution", default=0, min=0, max=8192, soft_max=4096,
         description="Texels per side of each light view's shadow map (hard shadows); 0 chooses them so that a "

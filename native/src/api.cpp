@@ -291,6 +291,8 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsStats, texels_per_range),
     SS_FIELD(SsStats, samples),
     SS_FIELD(SsStats, shadow_resolution),
+    SS_FIELD(SsStats, splatting_complete),
+    SS_FIELD(SsStats, splatting_progress),
     SS_STRUCT(SsResourceCounts),
     SS_FIELD(SsResourceCounts, contexts),
     SS_FIELD(SsResourceCounts, profile_sets),
@@ -498,7 +500,7 @@ SsStatus ssSetLights(SsContext context, const SsLightDesc* lights, uint32_t coun
 }
 
 SsStatus ssSetCamera(SsContext context, const SsCameraDesc* camera) {
-  return guarded("ssSetCamera", [&] { renderer(context).scene().setCamera(deref(camera, "camera")); });
+  return guarded("ssSetCamera", [&] { renderer(context).setCamera(deref(camera, "camera")); });
 }
 
 SsStatus ssSetEnvironment(SsContext context, const SsEnvironmentDesc* environment) {
@@ -529,6 +531,10 @@ SsStatus ssGetStats(SsContext context, SsStats* out) {
     if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
     *out = renderer(context).stats();
   });
+}
+
+SsStatus ssSetSplatBudget(SsContext context, uint64_t fragments) {
+  return guarded("ssSetSplatBudget", [&] { renderer(context).setSplatBudget(fragments); });
 }
 
 SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_t height, float* rgba) {

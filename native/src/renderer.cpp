@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "pipeline/auto_quality.h"
@@ -37,7 +38,12 @@ Renderer::Renderer() {
   scene_.setMeshObserver(&gpuScene_);
 }
 
+void Renderer::setCamera(const SsCameraDesc& camera) {
+  if (!scene_.hasCamera() || std::memcmp(&camera, &scene_.camera(), sizeof camera) != 0) scene().setCamera(camera);
+}
+
 void Renderer::setSettings(const SsSettings& s) {
+  resume_.valid = false;
   require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_MULTIRES || s.method == SS_METHOD_ADAPTIVE ||
               s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE,
           "unknown method " + std::to_string(s.method));
@@ -144,6 +150,12 @@ void Renderer::render(int width, int height, float* rgba) {
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
   if (!scene_.hasCamera()) fail(SS_INVALID_ARGUMENT, "no camera was set");
   lastMethod_ = -1;
+  // A budgeted render goes on where the last stopped when nothing changed since (the buffers and
+  // the splatted levels are as it left them); it is invalid again until this one succeeds.
+  bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments();
+  Resume resume = resume_;
+  resume_.valid = false;
+  bool resuming = budgeted && resume.valid && resume.width == width && resume.height == height;
   if (settings_.method == SS_METHOD_REFERENCE) {
     renderReference(width, height, rgba);
     return;
@@ -209,11 +221,14 @@ void Renderer::render(int width, int height, float* rgba) {
   };
   const SsCameraDesc first = sampleCamera(0);
   scene_.setCamera(first);
-  profiler.begin(SS_STAGE_BUFFERS);
-  splatting_.render(scene_, gpuScene_);
-  splatting_.buildHierarchy(scene_.camera());
-  profiler.end();
-  splats_.clear();
+  if (!resuming) {
+    profiler.begin(SS_STAGE_BUFFERS);
+    splatting_.render(scene_, gpuScene_);
+    splatting_.buildHierarchy(scene_.camera());
+    profiler.end();
+    splats_.clear();
+    resume = Resume{};
+  }
   shading_.clear();
   gl::checkErrors("splatting buffer");
 
@@ -281,6 +296,9 @@ void Renderer::render(int width, int height, float* rgba) {
     return inputs;
   };
   shadowCopies_.reset();
+  SplatBudget budget;
+  budget.fragments = splatBudget_;
+  bool splatsStopped = false;
   for (size_t i = 0; i < views.size(); ++i) {
     const LightView& view = views[i];
     profiler.begin(SS_STAGE_BUFFERS);
@@ -289,7 +307,14 @@ void Renderer::render(int width, int height, float* rgba) {
     if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport, softEntries[i] != 0);
     if (adaptive) irradiance_.buildHierarchy();
     profiler.end();
-    if (!translucent.empty()) splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
+    if (!translucent.empty() && !budgeted) {
+      splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
+    } else if (!translucent.empty() && i == resume.view && !splatsStopped) {
+      if (splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler, &resume.cursor, &budget))
+        resume.view = i + 1, resume.cursor = SplatCursor{};
+      else
+        splatsStopped = true;
+    }
     profiler.begin(SS_STAGE_SHADING);
     shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport);
     profiler.end();
@@ -298,7 +323,7 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   if (!translucent.empty()) {  // (one level: only keeps the debug copy)
     splats_.accumulate(scene_, splatting_, {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()},
-                       profiler);
+                       profiler, budgeted);
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
   float weight = 1.0f / float(samples);
@@ -359,6 +384,19 @@ void Renderer::render(int width, int height, float* rgba) {
   countCoverage(width, height, rgba);
   stats_.width = width;
   stats_.height = height;
+  bool complete = !budgeted || translucent.empty() || resume.view >= views.size();
+  stats_.splatting_complete = complete ? 1 : 0;
+  if (!complete) {  // views done, and of the view under way its levels done and its level's share
+    double total = std::max(splats_.lastSampleCount(), 1);
+    double inView = (resume.cursor.level + resume.cursor.first / total) / double(splatLevels);
+    stats_.splatting_progress = float((double(resume.view) + inView) / double(views.size()));
+  } else {
+    stats_.splatting_progress = 1.0f;
+  }
+  if (budgeted && !complete) {
+    resume.valid = true, resume.width = width, resume.height = height;
+    resume_ = resume;
+  }
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
@@ -375,6 +413,8 @@ void Renderer::renderReference(int width, int height, float* rgba) {
   SsStats stats{};
   reference_.render(scene_, options, width, height, rgba, progress_, stats);
   stats_ = stats;
+  stats_.splatting_complete = 1;  // no budget: REFERENCE is for final renders
+  stats_.splatting_progress = 1.0f;
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
 }
 

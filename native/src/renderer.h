@@ -27,7 +27,19 @@ class Renderer {
   static constexpr float kDefaultFilterWidth = 1.5f;
   static constexpr int kMaxSamples = 1024;
   Renderer();
-  Scene& scene() { return scene_; }
+  // Any change through the scene restarts a budgeted render's splatting (setCamera: a different camera).
+  Scene& scene() {
+    resume_.valid = false;
+    return scene_;
+  }
+  void setCamera(const SsCameraDesc& camera);
+  // At most this many splatting fragment invocations per render (0: no budget; docs/VIEWPORT.md,
+  // "Progressive splatting"): a render that runs out leaves the rest of the splats to the next,
+  // which goes on where it stopped while nothing changed; SsStats.splatting_complete says which.
+  void setSplatBudget(uint64_t fragments) {
+    splatBudget_ = fragments;
+    resume_.valid = false;
+  }
   const Scene& scene() const { return scene_; }
   void setSettings(const SsSettings& settings);
   const SsSettings& settings() const { return settings_; }
@@ -73,6 +85,16 @@ class Renderer {
   ReferenceRenderer reference_;
   ProgressFunction progress_;
   int lastMethod_ = -1, lastWidth_ = 0, lastHeight_ = 0;  // of the last successful render
+  // Where a budgeted render's splatting stopped: light view, and level and sample within it. Valid
+  // after a budgeted render that stopped early, until anything changes.
+  struct Resume {
+    bool valid = false;
+    int width = 0, height = 0;
+    size_t view = 0;
+    SplatCursor cursor;
+  };
+  uint64_t splatBudget_ = 0;
+  Resume resume_;
 };
 
 }  // namespace subsplat

@@ -9,7 +9,9 @@ screenshots and the viewport's counters (subsplat.last_viewport()):
 - anti-aliasing: each redraw adds a sample up to Viewport Samples, then redraws render nothing, and
   a camera move starts again;
 - a material edit sends that material again (and no mesh) and changes the image;
-- a light move sends the lights again (and no mesh) and brightens the side it moves to.
+- a light move sends the lights again (and no mesh) and brightens the side it moves to;
+- progressive splatting: under a budget of a sixth of a sample's splatting, each redraw stays
+  within it and a sample completes over several redraws.
 
 Run: xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python test_viewport.py
 (CTest does, with BLENDER_USER_SCRIPTS pointing at the built add-on). Exits 0 when every check
@@ -175,6 +177,28 @@ def steps():
     refined = subsplat.last_viewport()
     check(refined["sample"] == 4 and refined["samples_rendered"] >= idle["samples_rendered"] + 4,
           f"and refines to 4 again ({refined['sample']}, {refined['samples_rendered']} rendered)")
+
+    # Progressive splatting (docs/VIEWPORT.md): with a budget of a sixth of what a sample splats,
+    # each redraw stays within it (5 % for the chunk measured last, pipeline/splatting.h), a sample
+    # takes several redraws, each showing what it has, and the samples then go on.
+    whole = sum(refined["stats"]["splat_level_fragments"])
+    check(whole > 0, f"a sample splats ({whole} fragments)")
+    before = subsplat.last_viewport()
+    scene.subsplat.viewport_budget = whole / 6 / 1e6
+    yield from drawn(subsplat, before["draws"], timeout=30.0, settle=0.0)
+    check(subsplat.last_viewport()["sample"] == 0, "a new budget starts the samples again, the first one partial")
+    yield from sampled(2, timeout=120.0)
+    after = subsplat.last_viewport()
+    budget = int(scene.subsplat.viewport_budget * 1e6)
+    drawn_since = after["splat_fragments"][-(after["draws"] - before["draws"]):]
+    check(after["sample"] >= 2, f"the samples complete under the budget ({after['sample']})")
+    check(after["partial_draws"] - before["partial_draws"] >= 2 * 5,
+          f"each sample over at least six redraws ({after['partial_draws'] - before['partial_draws']} partial)")
+    check(max(drawn_since) <= budget * 1.05,
+          f"each redraw within the budget of {budget} ({max(drawn_since)} at most, {len(drawn_since)} redraws)")
+    check(sum(drawn_since) >= 0.9 * whole, f"and all of a sample's splats drawn over them ({sum(drawn_since)})")
+    scene.subsplat.viewport_budget = 200.0
+
     changes = subsplat.last_viewport()["gl_state_changes"]
     check(changes == [], f"no draw left Blender's GL state changed ({changes})")
 

@@ -42,9 +42,15 @@ class Counters:
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
         self.samples_rendered = 0  # anti-aliasing samples rendered, over all views
         self.sample = 0            # samples in the image shown now (restarts at 1 after any change)
+        # Progressive splatting (docs/VIEWPORT.md): redraws that stopped at the budget, the most
+        # splatting fragment invocations of one redraw, and the splatting progress of the last.
+        self.partial_draws = 0
+        self.max_splat_fragments = 0
+        self.splat_fragments = []  # of each redraw that rendered, the last 1000
+        self.splatting_progress = 1.0
 
     def as_dict(self):
-        return dict(vars(self))
+        return {name: list(value) if isinstance(value, list) else value for name, value in vars(self).items()}
 
 
 class ViewportSession:
@@ -77,6 +83,8 @@ class ViewportSession:
         self.samples = 0
         self.view_key = None
         self.context_first_sample = 0  # SsSettings.first_sample the native context holds
+        self.context_budget = None     # the splatting budget the native context holds
+        self.partial = None            # the image of a sample whose splatting is under way
 
     # -- updates -----------------------------------------------------------------------------
 
@@ -256,31 +264,48 @@ class ViewportSession:
             sent = self._send_pending()
             view_camera = camera.view_data(view, self.frame.origin)
             view_key = (width, height, view_camera)
+            budget = int(scene.subsplat.viewport_budget * 1e6)
+            if budget != self.context_budget:
+                self.context.set_splat_budget(budget)
+                self.context_budget, sent = budget, True
             if sent or view_key != self.view_key:
-                self.accumulated, self.samples, self.view_key = None, 0, view_key
+                self.accumulated, self.samples, self.view_key, self.partial = None, 0, view_key, None
             rendered = self.samples < target or self.accumulated is None
             if rendered:
-                # Each redraw adds one jittered sample to the image shown, up to viewport_samples.
+                # Each redraw adds one jittered sample to the image shown, up to viewport_samples; a
+                # sample's splatting runs over as many redraws as its budget needs (the library
+                # goes on where the last stopped while nothing changed).
                 if self.samples != self.context_first_sample:
                     self.context.set_settings(dataclasses.replace(self.settings, first_sample=self.samples))
                     self.context_first_sample = self.samples
                 self.context.set_camera(view_camera)
                 pixels = self.context.render(width, height)
-                self.accumulated = pixels.astype(np.float64) if self.samples == 0 else self.accumulated + pixels
-                self.samples += 1
-                self.counters.samples_rendered += 1
                 self.stats = self.context.stats()
+                splatted = sum(self.stats["splat_level_fragments"])
+                self.counters.max_splat_fragments = max(self.counters.max_splat_fragments, splatted)
+                self.counters.splat_fragments = (self.counters.splat_fragments + [splatted])[-1000:]
+                self.counters.splatting_progress = self.stats["splatting_progress"]
+                if self.stats["splatting_complete"]:
+                    self.partial = None
+                    self.accumulated = (pixels.astype(np.float64) if self.samples == 0
+                                        else self.accumulated + pixels)
+                    self.samples += 1
+                    self.counters.samples_rendered += 1
+                else:
+                    self.partial = pixels
+                    self.counters.partial_draws += 1
             frame_ms = (time.perf_counter() - start) * 1e3
         except native.SubsplatError as error:
             self.error = str(error)
-            self.accumulated, self.samples = None, 0
+            self.accumulated, self.samples, self.partial = None, 0, None
             engine.update_stats("", f"SubSplat: {error}")
             print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
             return
         self.counters.sample = self.samples
         if self.samples < target:
-            engine.tag_redraw()  # the next sample
-        pixels = self.accumulated / self.samples
+            engine.tag_redraw()  # the next sample, or the rest of this one's splatting
+        # The samples complete so far; before the first, the first's splats drawn so far.
+        pixels = self.accumulated / self.samples if self.samples else self.partial
         if state is not None:
             changes = native.changed_gl_state(state, native.gl_state())
             self.counters.gl_state_changes = sorted(set(self.counters.gl_state_changes) | set(changes))
@@ -297,7 +322,10 @@ class ViewportSession:
         gpu.state.blend_set("NONE")
         self.counters.draw_ms = (time.perf_counter() - start) * 1e3
         method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
-        engine.update_stats("", f"SubSplat {method}: sample {self.samples}/{target}, "
+        progress = ""
+        if self.partial is not None:
+            progress = f"splatting {100 * self.stats['splatting_progress']:.0f} %, "
+        engine.update_stats("", f"SubSplat {method}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "

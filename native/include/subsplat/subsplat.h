@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 17
+#define SS_API_VERSION 18
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -278,6 +278,11 @@ typedef struct SsStats {
   int32_t samples;
   /* Shadow map resolution used (the automatic choice, or the one set). */
   int32_t shadow_resolution;
+  /* With a splatting budget (ssSetSplatBudget): 1 when every splat is in the image, 0 when this
+   * render stopped at the budget and the next goes on; and the share of the splats drawn (by light
+   * view, level and sample). Without a budget: 1 and 1. */
+  int32_t splatting_complete;
+  float splatting_progress;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */
@@ -376,6 +381,13 @@ SS_API SsStatus ssSetEnvironment(SsContext context, const SsEnvironmentDesc* env
 /* Renders width x height and writes linear RGBA floats, bottom row first. */
 SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);
 SS_API SsStatus ssGetStats(SsContext context, SsStats* out);
+/* At most `fragments` splatting fragment invocations per ssRender of a GPU method (0, the
+ * default: no budget). A render that reaches it shows the splats drawn so far; the next render
+ * goes on where it stopped while nothing was changed since (any ssSet*, ssRemoveMesh,
+ * ssClearScene or ssLoadScene call, a different camera or size restarts), until
+ * SsStats.splatting_complete is 1: then its image equals one render without a budget. Ignored
+ * with debug_passes and where the driver counts no fragments (docs/VIEWPORT.md). */
+SS_API SsStatus ssSetSplatBudget(SsContext context, uint64_t fragments);
 /* Copies a pass of the last successful render: width * height RGBA floats. */
 SS_API SsStatus ssGetPass(SsContext context, int32_t pass, int32_t width, int32_t height, float* rgba_out);
 /* NULL callback: none. */

@@ -1,6 +1,7 @@
 #include "pipeline/splatting.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "material/splat_kernel.h"
 
@@ -16,6 +17,9 @@ void Splatting::resize(int width, int height, int levels) {
   width_ = height_ = 0;  // as in IrradianceBuffer::resize
   framebuffers_.clear();
   exitance_.clear();
+  gatheredFramebuffers_.clear();
+  gatheredLevels_.clear();
+  gathered_ = false;
   levelCopies_.clear();
   selectionFramebuffer_ = gl::Framebuffer();
   selection_ = gl::Texture();
@@ -73,9 +77,9 @@ uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
   return selected;
 }
 
-void Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+bool Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
-                      StageProfiler& profiler) {
+                      StageProfiler& profiler, SplatCursor* cursor, SplatBudget* budget) {
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
@@ -100,13 +104,49 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
-  for (int k = 0; k < splatLevels; ++k) {
-    profiler.begin(SS_STAGE_SPLATTING, k);
+  lastSampleCount_ = offsets[levels];
+  if (budget) budget->lastChunk = 0, budget->viewMeasured = false;  // each view probes its own splats
+  SplatCursor whole;
+  SplatCursor& at = cursor ? *cursor : whole;
+  bool done = true;
+  for (; at.level < splatLevels && done; ++at.level) {
+    int k = at.level;
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
     glUniform1i(uniform(p, "splatLevel"), k);
-    glDrawArrays(GL_POINTS, 0, offsets[levels]);
-    profiler.end();
+    GLint total = offsets[levels];
+    if (!budget) {
+      profiler.begin(SS_STAGE_SPLATTING, k);
+      glDrawArrays(GL_POINTS, 0, total);
+      profiler.end();
+      continue;
+    }
+    while (at.first < total) {
+      // Until a chunk has drawn a fragment, chunks grow to at most kProbe samples.
+      GLint growth = std::max(2 * budget->lastChunk, 1);
+      if (!budget->viewMeasured) growth = std::min(growth, SplatBudget::kProbe);
+      GLint count = std::min(total - at.first, growth);
+      if (budget->density > 0.0)
+        count = GLint(std::min<double>(count, std::floor(double(budget->left()) / (2.0 * budget->density))));
+      if (count < 1) {
+        if (budget->drewAny) {
+          done = false;  // the budget is spent: the next render goes on from here
+          break;
+        }
+        count = 1;
+      }
+      profiler.begin(SS_STAGE_SPLATTING, k);
+      glDrawArrays(GL_POINTS, at.first, count);
+      uint64_t fragments = profiler.endCounted();
+      budget->spent += fragments;
+      budget->density = std::max(budget->density, double(fragments) / double(count));
+      budget->drewAny = true;
+      budget->lastChunk = count;
+      if (fragments > 0) budget->viewMeasured = true;
+      at.first += count;
+    }
+    if (done) at.first = 0;
+    else break;
   }
   glDisable(GL_BLEND);
   if (debug_) {  // the selection pass: splat.vert's selection, drawn as points
@@ -122,6 +162,7 @@ void Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
     profiler.end();
   }
   glBindVertexArray(0);
+  return done;
 }
 
 }  // namespace subsplat
