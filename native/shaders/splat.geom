@@ -28,6 +28,15 @@ uniform float levelHeight[8];     // pixel rows of each splatting level
 layout(binding = UNIT_MINIMAL_RADIUS) uniform sampler2D minimalRadius;  // R-bar over log2 T, one row per kernel layer
 uniform vec2 minimalRadiusLog2T;  // log2 T at the first and last column
 uniform float kernelLayers;
+// The splatting budget (pipeline/splatting.h): with measureBounds, each sample adds to its slot of
+// bounds (the draw's primitive index) an upper bound of the fragment invocations its quads cost,
+// and emits nothing. Within the quad's pixels aligned out to 4 x 4 blocks (W x H), every block is
+// shaded at most once per triangle, whatever the driver counts of it (llvmpipe shades 4 x 4 blocks;
+// GPUs 2 x 2 quads, helpers included), and only those the diagonal crosses (at most W/4 + H/4 - 1)
+// by both: W H + 4 (W + H) - 16.
+uniform int measureBounds;
+uniform vec2 viewportSize;        // pixels of the level drawn
+layout(std430, binding = STORAGE_SPLAT_BOUNDS) buffer SplatBounds { uint bounds[]; };
 flat out vec2 splatRange;         // [R_min, R_max) of this level
 flat out float splatKernelRow; // the footprint's row of the kernel table, in [0, 1]
 flat out vec3 splatPosition;
@@ -75,6 +84,13 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
   lo = max(lo, vec2(-1.0));
   hi = min(hi, vec2(1.0));
   if (any(greaterThanEqual(lo, hi))) return;
+  if (measureBounds != 0) {
+    vec2 first = floor((lo * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;
+    vec2 last = ceil((hi * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;
+    uvec2 size = uvec2(max(last - first, vec2(4.0)));
+    atomicAdd(bounds[gl_PrimitiveIDIn], size.x * size.y + 4u * (size.x + size.y) - 16u);
+    return;
+  }
 
   float row = (log2(footprint / materials[m].ranges.x) - kernelLog2Range.x) /
               (kernelLog2Range.y - kernelLog2Range.x);

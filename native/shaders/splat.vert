@@ -19,6 +19,7 @@ uniform int levelOffset[9];      // first vertex of each level; levelOffset[leve
 uniform float z0;                // depth-range threshold, scene units
 uniform float alpha;             // eq. 11's scale
 uniform int splatLevel;          // selections are counted in the pass of splatting level 0
+uniform int measureBounds;       // 1: the splatting budget's pass (splat.geom), which counts nothing
 layout(std430, binding = STORAGE_SELECTION_COUNTS) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {
   vec3 position;
@@ -67,7 +68,7 @@ void main() {
   vec4 pm = texelFetch(irradiancePositionMaterial, texel, level);
   vec4 ff = texelFetch(irradianceFluxFootprint, texel, level);
   int m = int(pm.w);
-  if (splatLevel == 0 && pm.w >= 0.0 && isTranslucent(m)) atomicAdd(selected[level], 1u);
+  if (splatLevel == 0 && measureBounds == 0 && pm.w >= 0.0 && isTranslucent(m)) atomicAdd(selected[level], 1u);
   sampleOut.position = pm.xyz;
   sampleOut.material = m;
   sampleOut.flux = ff.rgb;

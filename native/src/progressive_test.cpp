@@ -56,9 +56,9 @@ class ProgressiveSplatting : public ::testing::Test {
   testing::Sphere sphere;
 };
 
-// The budget is kept by measuring each chunk (pipeline/splatting.h): a chunk denser than twice
-// any before it in the render passes it by its excess. Measured here: at most 0.03 % over; the
-// bound asserted is 5 %.
+// The budget is kept by a bound of each sample's fragments (pipeline/splatting.h, splat.geom): the
+// fragments counted stay within it. A render may draw no fragment (it went through samples that
+// draw none, charged for their vertex work), but it always advances.
 TEST_F(ProgressiveSplatting, EachRenderStaysWithinItsBudgetAndAdvances) {
   std::vector<float> image;
   uint64_t whole = oneShot(image);
@@ -73,8 +73,7 @@ TEST_F(ProgressiveSplatting, EachRenderStaysWithinItsBudgetAndAdvances) {
     uint64_t fragments = splatFragments(stats);
     std::printf("render %d: %llu splatting fragments of a budget of %llu, progress %.3f\n", renders + 1,
                 (unsigned long long)fragments, (unsigned long long)budget, stats.splatting_progress);
-    EXPECT_LE(fragments, budget + budget / 20) << "render " << renders + 1;
-    EXPECT_GT(fragments, 0u) << "render " << renders + 1 << " drew nothing";
+    EXPECT_LE(fragments, budget) << "render " << renders + 1;
     EXPECT_GT(stats.splatting_progress, progress) << "render " << renders + 1 << " did not advance";
     progress = stats.splatting_progress;
     spent += fragments;

@@ -153,8 +153,8 @@ void Renderer::render(int width, int height, float* rgba) {
   // A budgeted render goes on where the last stopped when nothing changed since (the buffers and
   // the splatted levels are as it left them); it is invalid again until this one succeeds.
   bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments();
-  Resume resume = resume_;
-  resume_.valid = false;
+  Resume resume = std::move(resume_);
+  resume_ = Resume{};
   bool resuming = budgeted && resume.valid && resume.width == width && resume.height == height;
   if (settings_.method == SS_METHOD_REFERENCE) {
     renderReference(width, height, rgba);
@@ -395,7 +395,7 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   if (budgeted && !complete) {
     resume.valid = true, resume.width = width, resume.height = height;
-    resume_ = resume;
+    resume_ = std::move(resume);
   }
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

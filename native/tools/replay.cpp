@@ -52,6 +52,7 @@ struct Options {
   float epsilon = 0.0f, alpha = 0.0f, z0 = 0.0f, targetError = 0.0f;  // 0: as saved
   uint32_t referenceSamples = 0;
   bool reference = true;
+  double budget = 0.0;  // splatting budget per render, millions of fragment invocations; 0: none
   std::string json, images;
 };
 
@@ -70,6 +71,9 @@ struct Options {
                "  --target-error E        automatic resolution's target relative RMSE (default: as saved)\n"
                "  --epsilon E, --alpha A  eq. 14's epsilon and eq. 11's alpha (default: as saved)\n"
                "  --z0 F                  adaptive depth threshold z0 as a factor of the bounding radius\n"
+               "  --budget M              splatting budget per render (ssSetSplatBudget), millions of fragment\n"
+               "                          invocations: each frame is rendered again until complete, as the\n"
+               "                          viewport does, and each run reports its renders (docs/VIEWPORT.md)\n"
                "  --no-reference          skip REFERENCE and the error columns\n"
                "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
                "  --json FILE             write every figure as JSON\n"
@@ -137,6 +141,11 @@ Options parse(int argc, char** argv) {
       float v = std::strtof(text.c_str(), &end);
       if (text.empty() || *end != '\0' || !(v > 0.0f)) usage("bad " + a + ": " + text);
       (a == "--epsilon" ? o.epsilon : a == "--alpha" ? o.alpha : a == "--z0" ? o.z0 : o.targetError) = v;
+    } else if (a == "--budget") {
+      std::string text = value();
+      char* end = nullptr;
+      o.budget = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !(o.budget >= 0.0) || o.budget > 1e9) usage("bad --budget: " + text);
     } else if (a == "--no-reference") {
       o.reference = false;
     } else if (a == "--reference-samples") {
@@ -208,9 +217,17 @@ void writeImages(const std::string& stem, const Image& image) {
   writePfm(stem + "_exitance.pfm", image.width, image.height, image.exitance);
 }
 
+// The renders of one frame under a splatting budget (--budget).
+struct BudgetRun {
+  int renders = 0;
+  double firstMs = 0.0, longestMs = 0.0, totalMs = 0.0;
+  uint64_t mostSplatFragments = 0;  // of one render, its splat draws (eq. 17's accumulation not counted)
+};
+
 struct Result {
   Variant variant;
   std::vector<SsStats> runs;
+  std::vector<BudgetRun> budgetRuns;  // --budget: each run's renders
   SsStats fastest{};
   double medianMs = 0.0;
   Errors errors;
@@ -258,17 +275,40 @@ SsSettings settingsFor(const SsSettings& saved, const Options& options, const Va
   return settings;
 }
 
-// One render with its exitance pass and stats.
+// One frame with its exitance pass and stats; with a budget, rendered until complete (the stats
+// are the last render's, frame_ms all of them together).
 Image render(SsContext context, const SsSettings& settings, int width, int height, const std::string& label,
-             SsStats& stats) {
+             SsStats& stats, double budget = 0.0, BudgetRun* run = nullptr) {
   check(ssSetSettings(context, &settings), "settings of " + label);
+  check(ssSetSplatBudget(context, uint64_t(budget * 1e6)), "budget of " + label);
   Image image;
   image.width = width, image.height = height;
   image.rgba.resize(size_t(width) * height * 4);
   image.exitance.resize(image.rgba.size());
-  check(ssRender(context, width, height, image.rgba.data()), "rendering " + label);
+  BudgetRun local;
+  BudgetRun& r = run ? *run : local;
+  r = BudgetRun{};
+  for (;;) {
+    check(ssRender(context, width, height, image.rgba.data()), "rendering " + label);
+    check(ssGetStats(context, &stats), "stats of " + label);
+    uint64_t splatted = 0;
+    for (int k = 0; k < stats.splat_levels && k < 8; ++k) splatted += stats.splat_level_fragments[k];
+    if (std::getenv("SUBSPLAT_REPLAY_DEBUG"))
+      std::printf("  render %d: %.0f ms (GPU: buffers %.0f, splatting %.0f, shading %.0f), progress %.3f\n",
+                  r.renders + 1, stats.frame_ms, stats.stage_ms[SS_STAGE_BUFFERS], stats.stage_ms[SS_STAGE_SPLATTING],
+                  stats.stage_ms[SS_STAGE_SHADING], stats.splatting_progress);
+    if (r.renders == 0) r.firstMs = stats.frame_ms;
+    ++r.renders;
+    r.longestMs = std::max(r.longestMs, stats.frame_ms);
+    r.totalMs += stats.frame_ms;
+    r.mostSplatFragments = std::max(r.mostSplatFragments, splatted);
+    if (stats.splatting_complete || budget <= 0.0) break;
+    if (r.renders >= 100000) throw Failure{label + ": the budgeted render did not complete in 100000 renders"};
+  }
+  double totalMs = r.totalMs;
   check(ssGetPass(context, SS_PASS_EXITANCE, width, height, image.exitance.data()), "exitance pass of " + label);
   check(ssGetStats(context, &stats), "stats of " + label);
+  stats.frame_ms = totalMs;
   return image;
 }
 
@@ -303,12 +343,19 @@ SceneResults measure(SsContext context, const Options& options, const std::strin
     for (size_t v = 0; v < options.methods.size(); ++v) {
       const Variant& entry = options.methods[v];
       SsStats stats{};
-      Image image = render(context, settingsFor(saved, options, entry), scene.width, scene.height, entry.label, stats);
+      BudgetRun budgetRun;
+      Image image = render(context, settingsFor(saved, options, entry), scene.width, scene.height, entry.label, stats,
+                           options.budget, &budgetRun);
       if (run < 0) continue;  // a warm-up frame
       if (run == 0) images[v] = std::move(image);
       scene.results[v].variant = entry;
       scene.results[v].runs.push_back(stats);
+      scene.results[v].budgetRuns.push_back(budgetRun);
       std::printf("%s %s run %d: %.0f ms\n", scene.name.c_str(), entry.label.c_str(), run + 1, stats.frame_ms);
+      if (options.budget > 0.0)
+        std::printf("  budget %.0fM: %d renders, first %.0f ms, longest %.0f ms, most splatting fragments %.1fM\n",
+                    options.budget, budgetRun.renders, budgetRun.firstMs, budgetRun.longestMs,
+                    double(budgetRun.mostSplatFragments) / 1e6);
       std::fflush(stdout);
     }
   }
@@ -398,6 +445,16 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     jsonList<uint64_t>(json, st.splat_levels, [&](int k) { return st.splat_level_fragments[k]; });
     json << ", \"accumulation_ms\": " << st.accumulation_ms
          << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count;
+    if (!r.budgetRuns.empty() && r.budgetRuns.front().renders > 0) {
+      json << ", \"budget_runs\": [";
+      for (size_t i = 0; i < r.budgetRuns.size(); ++i) {
+        const BudgetRun& b = r.budgetRuns[i];
+        json << (i ? ", " : "") << "{\"renders\": " << b.renders << ", \"first_ms\": " << b.firstMs
+             << ", \"longest_ms\": " << b.longestMs << ", \"total_ms\": " << b.totalMs
+             << ", \"most_splat_fragments\": " << b.mostSplatFragments << "}";
+      }
+      json << "]";
+    }
     if (r.hasErrors)
       json << ", \"relative_rmse\": " << r.errors.radiance << ", \"exitance_relative_rmse\": " << r.errors.exitance
            << ", \"compared_pixels\": " << r.errors.pixels;

@@ -63,7 +63,8 @@
 #define SUBSPLAT_STORAGE_BINDINGS(X) \
   X(STORAGE_MATERIALS, 0)            \
   X(STORAGE_SELECTION_COUNTS, 1)    \
-  X(STORAGE_COVERAGE_COUNTS, 2)
+  X(STORAGE_COVERAGE_COUNTS, 2)      \
+  X(STORAGE_SPLAT_BOUNDS, 3)
 
 // X(name, value): enums the shaders share with the C API (subsplat.h).
 #define SUBSPLAT_SHARED_ENUMS(X)    \

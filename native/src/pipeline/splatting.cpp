@@ -105,7 +105,6 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
   lastSampleCount_ = offsets[levels];
-  if (budget) budget->lastChunk = 0, budget->viewMeasured = false;  // each view probes its own splats
   SplatCursor whole;
   SplatCursor& at = cursor ? *cursor : whole;
   bool done = true;
@@ -121,30 +120,69 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
       profiler.end();
       continue;
     }
-    while (at.first < total) {
-      // Until a chunk has drawn a fragment, chunks grow to at most kProbe samples.
-      GLint growth = std::max(2 * budget->lastChunk, 1);
-      if (!budget->viewMeasured) growth = std::min(growth, SplatBudget::kProbe);
-      GLint count = std::min(total - at.first, growth);
-      if (budget->density > 0.0)
-        count = GLint(std::min<double>(count, std::floor(double(budget->left()) / (2.0 * budget->density))));
-      if (count < 1) {
-        if (budget->drewAny) {
-          done = false;  // the budget is spent: the next render goes on from here
+    if (budget->drewAny && budget->left() == 0 && at.first < total) {
+      done = false;
+      break;
+    }
+    // The bounds of the level's samples (splat.geom), measured a slice at a time ahead of the
+    // cursor and kept for the view's later renders; then as many samples as fit.
+    if (at.bounds.size() != size_t(splatLevels)) at.bounds.assign(size_t(splatLevels), {});
+    std::vector<GLuint>& levelBounds = at.bounds[size_t(k)];
+    auto measure = [&](GLint first, GLint slice) {
+      GLint end = std::min(total, first + slice), n = end - first;
+      budget->spent += uint64_t(n) * SplatBudget::kSampleCost;
+      size_t bytes = size_t(n) * sizeof(GLuint);
+      if (bytes > boundsCapacity_) {
+        boundsCapacity_ = bytes;
+        bounds_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, boundsCapacity_, nullptr, GL_DYNAMIC_READ);
+      }
+      glBindBuffer(GL_SHADER_STORAGE_BUFFER, bounds_.id());
+      glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SPLAT_BOUNDS, bounds_.id());
+      glUniform1i(uniform(p, "measureBounds"), 1);
+      glUniform2f(uniform(p, "viewportSize"), float(std::max(width_ >> k, 1)), float(std::max(height_ >> k, 1)));
+      glEnable(GL_RASTERIZER_DISCARD);
+      glDrawArrays(GL_POINTS, first, n);
+      glDisable(GL_RASTERIZER_DISCARD);
+      glUniform1i(uniform(p, "measureBounds"), 0);
+      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+      levelBounds.resize(size_t(end));
+      glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, bytes, levelBounds.data() + first);
+      glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    };
+    GLint count = 0;
+    uint64_t cost = 0;  // of the samples counted: their bounds and their vertex work
+    for (bool full = false; at.first + count < total && !full;) {
+      if (at.first + count >= GLint(levelBounds.size())) {
+        uint64_t left = budget->left() > cost ? budget->left() - cost : 0;
+        GLint slice = GLint(std::clamp<uint64_t>(left / (4 * SplatBudget::kSampleCost), SplatBudget::kMinSlice,
+                                                 SplatBudget::kBoundsSlice));
+        if (left < uint64_t(SplatBudget::kMinSlice) * SplatBudget::kSampleCost && (budget->drewAny || count > 0))
+          break;
+        measure(at.first + count, slice);
+      }
+      for (; at.first + count < GLint(levelBounds.size()); ++count) {
+        uint64_t c = uint64_t(levelBounds[size_t(at.first + count)]) + SplatBudget::kSampleCost;
+        if (cost + c > budget->left()) {
+          full = true;
           break;
         }
-        count = 1;
+        cost += c;
       }
+    }
+    if (count == 0 && at.first < total && !budget->drewAny) {  // always advance
+      if (at.first >= GLint(levelBounds.size())) measure(at.first, SplatBudget::kMinSlice);
+      cost = levelBounds[size_t(at.first + count++)] + SplatBudget::kSampleCost;
+    }
+    if (count > 0) {
       profiler.begin(SS_STAGE_SPLATTING, k);
       glDrawArrays(GL_POINTS, at.first, count);
-      uint64_t fragments = profiler.endCounted();
-      budget->spent += fragments;
-      budget->density = std::max(budget->density, double(fragments) / double(count));
+      profiler.end();
+      budget->spent += cost;
       budget->drewAny = true;
-      budget->lastChunk = count;
-      if (fragments > 0) budget->viewMeasured = true;
       at.first += count;
     }
+    if (at.first < total) done = false;  // the budget is spent: the next render goes on from here
     if (done) at.first = 0;
     else break;
   }

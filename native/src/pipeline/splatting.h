@@ -20,22 +20,26 @@ namespace subsplat {
 struct SplatCursor {
   int level = 0;
   GLint first = 0;
+  // A budgeted render's bound of each sample's fragments at each level of this view, measured once
+  // for the view (splat.geom) and kept while its renders go on.
+  std::vector<std::vector<GLuint>> bounds;
 };
 
 // The splatting budget of one render (ssSetSplatBudget, docs/VIEWPORT.md, "Progressive splatting"):
-// at most `fragments` splatting fragment invocations, kept by measuring. Samples are drawn in
-// chunks: in each light view the first of one sample, each next at most twice the last (and at
-// most kProbe samples until one drew a fragment), and no larger than what fits in the budget left
-// at twice the densest chunk's fragments per sample so far in the render. A render draws at least
-// one sample, so that it always advances. A chunk far denser than those before it can still pass
-// the budget: it is kept by measuring, not by a bound (docs/VIEWPORT.md).
+// at most `fragments` splatting fragment invocations, kept by a bound. Before drawing a level from
+// the cursor on, a pass without rasterisation writes each sample's bound (splat.geom), a slice at a
+// time and kept for the view's next renders; the level is then drawn up to the last sample whose
+// bound (with kSampleCost) still fits in what is left. A render draws at
+// least one sample, so that it always advances (that one sample may pass a budget smaller than
+// its own quad).
 struct SplatBudget {
-  static constexpr GLint kProbe = 16;
+  // A sample's vertex and geometry work, charged once for measuring it and once for drawing it, in
+  // fragment invocations: a redraw through samples that draw nothing (a coarse level's unselected
+  // ones) is bounded too.
+  static constexpr uint64_t kSampleCost = 8;
+  static constexpr GLint kBoundsSlice = 32768, kMinSlice = 256;  // samples measured at a time
   uint64_t fragments = 0;
-  uint64_t spent = 0;
-  double density = 0.0;  // the most fragments per sample of a chunk so far
-  GLint lastChunk = 0;   // samples, in this light view
-  bool viewMeasured = false;  // a chunk of this light view drew a fragment
+  uint64_t spent = 0;  // the bounds of what was drawn
   bool drewAny = false;
   uint64_t left() const { return spent < fragments ? fragments - spent : 0; }
 };
@@ -87,6 +91,8 @@ class Splatting {
   std::vector<gl::Framebuffer> gatheredFramebuffers_;
   bool gathered_ = false;
   GLint lastSampleCount_ = 0;
+  gl::Buffer bounds_;  // SplatBounds (splat.geom), one uint per sample
+  size_t boundsCapacity_ = 0;
   gl::Buffer counts_;  // SelectionCounts (splat.vert)
 };
 
