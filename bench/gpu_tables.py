@@ -1,6 +1,7 @@
 """The GPU section of docs/BENCHMARKS.md ("On a GPU") from bench/gpu_replay.sh's results.
 
     /usr/bin/python3 bench/gpu_tables.py bench/results/gpu_h200 [--images GPU_DIR LLVMPIPE_DIR --figure PNG]
+    /usr/bin/python3 bench/gpu_tables.py --budget bench/results/gpu_h200_budget . (the viewport's budget)
 
 Reads the per-scene reports (hd_*.json at the large size, small.json at llvmpipe's size,
 hd_wax_jade_epsilon.json) and prints Tables 1 and 2 as bench/replay.py writes them. With --images,
@@ -95,13 +96,37 @@ def compare_images(gpu, llvmpipe, figure):
     return lines
 
 
+def budget_table(folder):
+    """Markdown lines: each example's frame under the viewport's splatting budget (budget_*.json,
+    subsplat_replay --budget) beside the same frame in one render (oneshot.json), same call."""
+    oneshot = {s["scene"]: s["methods"][0] for s in load(os.path.join(folder, "oneshot.json"))["scenes"]}
+    lines = ["| scene | one render: ms | its splatting fragments | budgeted: renders | first ms | longest ms | "
+             "all renders ms | most splatting fragments in one |", "|---|---|---|---|---|---|---|---|"]
+    for name in ORDER:
+        path = os.path.join(folder, f"budget_{name}.json")
+        if not os.path.exists(path):
+            continue
+        m = load(path)["scenes"][0]["methods"][0]
+        runs = m["budget_runs"]
+        whole = oneshot[name]
+        splat = sum(whole["splat_level_fragments"])
+        lines.append(f"| {name} | {whole['median_frame_ms']:.0f} | {splat / 1e6:.0f} M | {runs[0]['renders']} | "
+                     f"{max(r['first_ms'] for r in runs):.0f} | {max(r['longest_ms'] for r in runs):.0f} | "
+                     f"{m['median_frame_ms']:.0f} | {max(r['most_splat_fragments'] for r in runs) / 1e6:.0f} M |")
+    return lines
+
+
 def main():
     parser = argparse.ArgumentParser(prog="bench/gpu_tables.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("folder")
     parser.add_argument("--ranges", default=None, help="build/bench/ranges.json (bench/methods.py)")
     parser.add_argument("--images", nargs=2, metavar=("GPU_DIR", "LLVMPIPE_DIR"))
     parser.add_argument("--figure", default="docs/images/gpu_vs_llvmpipe.png")
+    parser.add_argument("--budget", metavar="FOLDER", help="print the budget table of this folder only")
     args = parser.parse_args()
+    if args.budget:
+        print("\n".join(budget_table(args.budget)))
+        return
     ranges = load(args.ranges) if args.ranges else None
     for title, pattern in (("1920 x 1080", "hd_[a-z]*[a-z].json"), ("800 x 600", "small.json"),
                            ("wax_jade, eq. 14's epsilon, 1920 x 1080", "hd_wax_jade_epsilon.json")):
