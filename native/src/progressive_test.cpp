@@ -104,6 +104,27 @@ TEST_F(ProgressiveSplatting, TheRefinedImageIsTheOneShotRender) {
   EXPECT_LE(difference, 1e-4 * scale);
 }
 
+// With anti-aliasing's samples in the same render (final renders' way), the direct light is drawn
+// again on every render; the refined image is still the one-shot render's.
+TEST_F(ProgressiveSplatting, TheRefinedImageWithSamplesIsTheOneShotRender) {
+  SsSettings settings{};
+  ASSERT_EQ(ssGetSettings(context, &settings), SS_OK);
+  settings.samples = 3;
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK);
+  std::vector<float> expected, image;
+  uint64_t whole = oneShot(expected);
+  if (whole == 0) GTEST_SKIP() << "this driver has no pipeline statistics queries";
+  ASSERT_EQ(ssSetSplatBudget(context, whole / 4), SS_OK);
+  ASSERT_EQ(render(image).splatting_complete, 0);
+  for (int renders = 1; !render(image).splatting_complete; ++renders) ASSERT_LT(renders, 200);
+  double difference = 0.0, scale = 0.0;
+  for (size_t i = 0; i < image.size(); ++i) {
+    difference = std::max(difference, double(std::abs(image[i] - expected[i])));
+    scale = std::max(scale, double(std::abs(expected[i])));
+  }
+  EXPECT_LE(difference, 1e-4 * scale);
+}
+
 TEST_F(ProgressiveSplatting, AnyChangeStartsAgainAndTheSameCameraGoesOn) {
   std::vector<float> image;
   uint64_t whole = oneShot(image);

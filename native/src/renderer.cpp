@@ -229,7 +229,10 @@ void Renderer::render(int width, int height, float* rgba) {
     splats_.clear();
     resume = Resume{};
   }
-  shading_.clear();
+  // Going on with one sample, the direct light is the first render's (anti-aliasing's other
+  // samples draw theirs into the same buffer, so with them every render draws it again).
+  bool reuseDirect = resuming && samples == 1;
+  if (!reuseDirect) shading_.clear();
   gl::checkErrors("splatting buffer");
 
   Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
@@ -301,6 +304,9 @@ void Renderer::render(int width, int height, float* rgba) {
   bool splatsStopped = false;
   for (size_t i = 0; i < views.size(); ++i) {
     const LightView& view = views[i];
+    // Going on (docs/VIEWPORT.md): the direct light is the first render's; only the views still
+    // to splat are drawn again, while the budget lasts.
+    if (reuseDirect && (i < resume.view || splatsStopped || translucent.empty())) continue;
     profiler.begin(SS_STAGE_BUFFERS);
     ShadowInputs inputs = renderView(i);
     if (samples > 1) shadowCopies_.keep(i, inputs, scene_.tabulated());
@@ -315,9 +321,11 @@ void Renderer::render(int width, int height, float* rgba) {
       else
         splatsStopped = true;
     }
-    profiler.begin(SS_STAGE_SHADING);
-    shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport);
-    profiler.end();
+    if (!reuseDirect) {
+      profiler.begin(SS_STAGE_SHADING);
+      shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport);
+      profiler.end();
+    }
     ++stats_.light_views;
     gl::checkErrors("light view");
   }
