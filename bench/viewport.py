@@ -27,7 +27,7 @@ ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, "tests"))  # subsplat_testing
 import sections  # noqa: E402
-from subsplat_testing.ui_helpers import areas, drawn, enable_addon, run_steps  # noqa: E402
+from subsplat_testing.ui_helpers import areas, drawn, enable_addon, redraw, run_steps  # noqa: E402
 
 EXAMPLES = ("skin_suzanne", "marble_pieces", "wax_jade", "heterogeneous", "candle_twist", "finger_pose")
 COMMAND = ('BLENDER_USER_SCRIPTS=build/scripts xvfb-run -a -s "-screen 0 1280x800x24" '
@@ -38,6 +38,7 @@ def arguments():
     parser = argparse.ArgumentParser(prog="bench/viewport.py")
     parser.add_argument("--scenes", nargs="*", default=list(EXAMPLES))
     parser.add_argument("--repeats", type=int, default=1)
+    parser.add_argument("--scales", nargs="*", default=["1", "2"], help="Viewport Resolution divisors (1 2 4)")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
 
@@ -72,20 +73,30 @@ def deform(scene):
 
 
 def measure(subsplat, change, repeats):
-    """Yields while `change()` is made `repeats` times, each followed by a redraw; appends the
-    medians (update ms, draw ms, ssRender ms, frame size) to the module's `results`."""
+    """Yields while `change()` is made `repeats` times, each followed by redraws until the first
+    sample is complete (the viewport's budget splits it over redraws, docs/VIEWPORT.md); appends the
+    medians (update ms, first draw ms, ssRender ms of the last, frame size, longest draw ms, redraws,
+    all the draws' ms) to the module's `results`."""
     rows = []
     for _ in range(repeats):
         draws = subsplat.last_viewport()["draws"]
         kind = change()
-        yield from drawn(subsplat, draws, timeout=900.0, settle=0.2)
+        yield from drawn(subsplat, draws, timeout=900.0, settle=0.0)
+        waited = 0.0
+        while subsplat.last_viewport().get("sample", 0) < 1 and waited < 1800.0:
+            redraw()
+            yield 0.05
+            waited += 0.05
         v = subsplat.last_viewport()
         if v["error"]:
             raise RuntimeError(v["error"])
-        rows.append((v["update_ms"], v["draw_ms"], v["stats"]["frame_ms"], v["stats"]["width"], v["stats"]["height"]))
+        times = v["draw_times"][-(v["draws"] - draws):]
+        rows.append((v["update_ms"], times[0], v["stats"]["frame_ms"], v["stats"]["width"], v["stats"]["height"],
+                     max(times), len(times), sum(times)))
     median = np.median(np.asarray(rows), axis=0)
     results.append({"kind": kind, "update_ms": float(median[0]), "draw_ms": float(median[1]),
-                    "render_ms": float(median[2]), "width": int(median[3]), "height": int(median[4])})
+                    "render_ms": float(median[2]), "width": int(median[3]), "height": int(median[4]),
+                    "longest_draw_ms": float(median[5]), "redraws": int(median[6]), "all_draws_ms": float(median[7])})
 
 
 results = []
@@ -129,7 +140,7 @@ def steps(args):
     subsplat = enable_addon()
     table = []
     for name in args.scenes:
-        for scale in ("1", "2"):
+        for scale in args.scales:
             bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "example_blends", f"{name}.blend"))
             yield 0.5
             scene = bpy.context.scene
@@ -187,18 +198,26 @@ def write(table, big, repeats):
              f"Taken {datetime.date.today().isoformat()} at revision `{revision}` on {helpers.machine()}, "
              f"OpenGL renderer `{renderer}`, Blender {bpy.app.version_string} with its UI under Xvfb "
              "(window 1280 x 800), by", "", f"    {COMMAND}", "",
-             "Each scene in Rendered shading (FULL, the scene's settings) at Viewport Resolution 1/1 and 1/2; "
-             f"the median of {repeats} redraw(s) after each change. *update* is `view_update`: the changed objects read "
-             "from the depsgraph into arrays (export); *draw* is `view_draw`: sending them to the library, "
-             "`ssRender`, the read-back and the display. The deformation step is the next frame of the animated "
-             "examples and a vertex moved by 1 mm otherwise (the object's evaluated mesh exported again).", "",
-             "| scene | scale | frame size | light move: update ms | draw ms | deformation: update ms | draw ms |",
-             "|---|---|---|---|---|---|---|"]
+             "Each scene in Rendered shading (FULL, the scene's settings, Viewport Budget as saved: 200 M by "
+             f"default) at the Viewport Resolutions listed; the median of {repeats} change(s) of each kind. "
+             "*update* is `view_update`: the changed objects read from the depsgraph into arrays (export); "
+             "*first* is the first `view_draw` after the change (sending to the library, `ssRender`, the "
+             "read-back and the display: the first picture); *longest* the longest of the redraws until the "
+             "first sample is complete, *redraws* how many. The deformation step is the next frame of the "
+             "animated examples and a vertex moved by 1 mm otherwise (the object's evaluated mesh exported again).",
+             "",
+             "| scene | scale | frame size | light move: update ms | first ms | longest ms | redraws | "
+             "deformation: update ms | first ms | longest ms | redraws |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for row in table:
         light, step = row["light"], row["deformation"]
+        cells = []
+        for r in (light, step):
+            cells += [f"{r['update_ms']:.1f}", f"{r['draw_ms']:.0f}",
+                      f"{r['longest_draw_ms']:.0f}" if "longest_draw_ms" in r else "-",
+                      str(r["redraws"]) if "redraws" in r else "-"]
         lines.append(f"| {row['scene']} | {row['scale']} | {light['width']} x {light['height']} | "
-                     f"{light['update_ms']:.1f} | {light['draw_ms']:.0f} | {step['update_ms']:.1f} | "
-                     f"{step['draw_ms']:.0f} |")
+                     + " | ".join(cells) + " |")
     share = big["update_ms"] / (big["update_ms"] + big["draw_ms"])
     lines += ["", f"A sphere of {big['triangles']} triangles deformed every frame by a Wave modifier (skin, one sun, "
               f"1/2 resolution, {big['width']} x {big['height']}): exporting it takes {big['update_ms']:.0f} ms "

@@ -47,6 +47,7 @@ class Counters:
         self.partial_draws = 0
         self.max_splat_fragments = 0
         self.splat_fragments = []  # of each redraw that rendered, the last 1000
+        self.draw_times = []       # view_draw ms of each redraw that rendered, the last 1000
         self.splatting_progress = 1.0
 
     def as_dict(self):
@@ -321,6 +322,8 @@ class ViewportSession:
         engine.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
         self.counters.draw_ms = (time.perf_counter() - start) * 1e3
+        if rendered:
+            self.counters.draw_times = (self.counters.draw_times + [self.counters.draw_ms])[-1000:]
         method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
         progress = ""
         if self.partial is not None:
