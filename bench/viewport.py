@@ -39,6 +39,10 @@ def arguments():
     parser.add_argument("--scenes", nargs="*", default=list(EXAMPLES))
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--scales", nargs="*", default=["1", "2"], help="Viewport Resolution divisors (1 2 4)")
+    parser.add_argument("--budget", type=float, default=None,
+                        help="Viewport Budget in millions of fragments (default: as saved; 0: none)")
+    parser.add_argument("--output", default="viewport.json", help="file name in build/bench/")
+    parser.add_argument("--no-document", action="store_true", help="do not write docs/BENCHMARKS.md")
     return parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 
 
@@ -145,6 +149,8 @@ def steps(args):
             yield 0.5
             scene = bpy.context.scene
             scene.subsplat.viewport_scale = scale
+            if args.budget is not None:
+                scene.subsplat.viewport_budget = args.budget
             rendered_view()
             yield from drawn(subsplat, 0, timeout=900.0, settle=0.2)
             light = first_light(scene)
@@ -172,15 +178,15 @@ def steps(args):
     yield from measure(subsplat, next_frame, args.repeats)
     big = {"triangles": triangles, **results[0]}
     print(json.dumps(big), flush=True)
-    write(table, big, args.repeats)
+    write(table, big, args.repeats, args.output, not args.no_document)
     sys.stdout.flush()
     os._exit(0)
 
 
-def write(table, big, repeats):
+def write(table, big, repeats, output="viewport.json", document=True):
     """Saves build/bench/viewport.json (rows of scenes not measured this time kept from the last
     run, so `--scenes NAME` measures one again) and writes the document section from it."""
-    path = os.path.join(ROOT, "build", "bench", "viewport.json")
+    path = os.path.join(ROOT, "build", "bench", output)
     os.makedirs(os.path.dirname(path), exist_ok=True)
     measured = {(row["scene"], row["scale"]) for row in table}
     if os.path.exists(path):
@@ -189,6 +195,8 @@ def write(table, big, repeats):
     table.sort(key=lambda row: (EXAMPLES.index(row["scene"]) if row["scene"] in EXAMPLES else 99, row["scale"]))
     with open(path, "w") as f:
         json.dump({"scenes": table, "big_mesh": big}, f, indent=1)
+    if not document:
+        return
     from subsplat_testing import helpers
     revision = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                               text=True).stdout.strip()
