@@ -163,6 +163,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     SsStats stats;
     ssGetStats(context, &stats);
     ssGetPass(context, in.ConsumeIntegralInRange<int32_t>(-1, 4), width, height, rgba.data());
+    // A splatting budget (the viewport's): renders that go on where the last stopped, then a
+    // change (the camera sent again, or moved) and more. Read last, so older seeds keep their meaning.
+    uint64_t splatBudget = in.ConsumeIntegralInRange<uint64_t>(0, 1 << 20);
+    if (splatBudget > 0 && ssSetSplatBudget(context, splatBudget) != SS_OK) __builtin_trap();
+    for (int again = in.ConsumeIntegralInRange<int>(0, 4); again > 0; --again) {
+      if (in.ConsumeBool()) {
+        camera.world_to_view[12] += in.ConsumeFloatingPointInRange<float>(-0.1f, 0.1f);
+        ssSetCamera(context, &camera);
+      }
+      if (ssRender(context, width, height, rgba.data()) == SS_OK) ssGetStats(context, &stats);
+    }
   }
   if (ssReleaseContext(context) != SS_OK) __builtin_trap();
   if (ssSetMemoryBudget(0) != SS_OK) __builtin_trap();

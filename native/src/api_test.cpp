@@ -61,6 +61,7 @@ TEST(ApiWithoutContext, NullPointersAreRejected) {
   EXPECT_EQ(ssNewContext(nullptr), SS_INVALID_ARGUMENT);
   EXPECT_EQ(ssReleaseContext(nullptr), SS_INVALID_HANDLE);
   EXPECT_EQ(ssRender(nullptr, 4, 4, nullptr), SS_INVALID_HANDLE);
+  EXPECT_EQ(ssSetSplatBudget(nullptr, 1000), SS_INVALID_HANDLE);
   EXPECT_EQ(ssGetProfileInfo(nullptr, nullptr), SS_INVALID_ARGUMENT);
   uint64_t notAContext[4] = {0, 0, 0, 0};
   EXPECT_EQ(ssSetLights(reinterpret_cast<SsContext>(notAContext), nullptr, 0), SS_INVALID_HANDLE);
