@@ -432,3 +432,37 @@ TEST_F(Multires, StatsSplitSplattingIntoLevelsAndAccumulation) {
 
 }  // namespace
 }  // namespace subsplat
+
+namespace subsplat {
+namespace {
+
+// Issue 21's wide-range case, in fragment invocations (not time): marble at 25 mm per unit on the
+// slab, whose R_P is 0.13 of the slab's bounding radius and about 60 pixels here, the case the paper's method is for.
+// FULL at the product's settings (automatic levels) against BRUTE at the same irradiance
+// resolution. The issue's goal is 5x; the bound is what FULL does today, so that it cannot slip
+// back (docs/MULTIRES.md, "Where the time goes when the range is long", says what stops it).
+TEST_F(Multires, FullDoesFewerFragmentsThanBruteWhereTheRangeIsLong) {
+  constexpr int kSize = 160;  // pixels across the slab's unit square
+  SsMaterialDesc marble = testing::marbleMaterial(25.0f);
+  setSlabUnderSun(marble);
+  SsProfileInfo info{};
+  ASSERT_EQ(ssGetProfileInfo(&marble, &info), SS_OK);
+  double longest = std::max({info.effective_range[0], info.effective_range[1], info.effective_range[2]});
+  double radius = std::sqrt(2.0 * 2.0 * 2.0);  // the slab: a square of half-size 2, its bounding sphere
+  ASSERT_GT(longest / radius, 0.1) << "the longest R_P above 0.1 of the bounding radius";
+  renderWith(SS_METHOD_FULL, kSize, 0.0f, 0);  // the context's first frame (shaders, tables)
+  SsStats brute = renderWith(SS_METHOD_BRUTE, kSize);
+  SsStats full = renderWith(SS_METHOD_FULL, kSize, 0.0f, 0);
+  if (!brute.statistics_available || !full.statistics_available)
+    GTEST_SKIP() << "this driver has no pipeline statistics queries";
+  double ratio = double(brute.fragment_invocations[SS_STAGE_SPLATTING]) /
+                 double(std::max<uint64_t>(full.fragment_invocations[SS_STAGE_SPLATTING], 1));
+  std::printf("longest R_P %.3f units (%.2f of the bounding radius, %.0f pixels); splatting fragments: BRUTE "
+              "%llu, FULL %llu (%d levels): %.2fx fewer\n",
+              longest, longest / radius, longest * kSize, (unsigned long long)brute.fragment_invocations[SS_STAGE_SPLATTING],
+              (unsigned long long)full.fragment_invocations[SS_STAGE_SPLATTING], full.splat_levels, ratio);
+  EXPECT_GE(ratio, 2.0);
+}
+
+}  // namespace
+}  // namespace subsplat

@@ -224,6 +224,7 @@ class ViewportSession:
             native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
             self.context_first_sample = 0
+            self.context_budget = None  # a new context has no budget: the draw sets it
         # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
         # the memory budget) is sent again by the next draw.
         for material_id, material in list(self.pending_materials.items()):
