@@ -350,7 +350,7 @@ SceneResults measure(SsContext context, const Options& options, const std::strin
       if (run == 0) images[v] = std::move(image);
       scene.results[v].variant = entry;
       scene.results[v].runs.push_back(stats);
-      scene.results[v].budgetRuns.push_back(budgetRun);
+      if (options.budget > 0.0) scene.results[v].budgetRuns.push_back(budgetRun);
       std::printf("%s %s run %d: %.0f ms\n", scene.name.c_str(), entry.label.c_str(), run + 1, stats.frame_ms);
       if (options.budget > 0.0)
         std::printf("  budget %.0fM: %d renders, first %.0f ms, longest %.0f ms, most splatting fragments %.1fM\n",
@@ -445,7 +445,7 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     jsonList<uint64_t>(json, st.splat_levels, [&](int k) { return st.splat_level_fragments[k]; });
     json << ", \"accumulation_ms\": " << st.accumulation_ms
          << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count;
-    if (!r.budgetRuns.empty() && r.budgetRuns.front().renders > 0) {
+    if (!r.budgetRuns.empty()) {
       json << ", \"budget_runs\": [";
       for (size_t i = 0; i < r.budgetRuns.size(); ++i) {
         const BudgetRun& b = r.budgetRuns[i];

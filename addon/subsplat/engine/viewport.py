@@ -42,13 +42,11 @@ class Counters:
         self.draw_ms = 0.0         # the last view_draw: render, read back and display
         self.samples_rendered = 0  # anti-aliasing samples rendered, over all views
         self.sample = 0            # samples in the image shown now (restarts at 1 after any change)
-        # Progressive splatting (docs/VIEWPORT.md): redraws that stopped at the budget, the most
-        # splatting fragment invocations of one redraw, and the splatting progress of the last.
+        # Progressive splatting (docs/VIEWPORT.md): redraws that stopped at the budget, and the
+        # splatting fragment invocations of each redraw.
         self.partial_draws = 0
-        self.max_splat_fragments = 0
         self.splat_fragments = []  # of each redraw that rendered, the last 1000
         self.draw_times = []       # view_draw ms of each redraw that rendered, the last 1000
-        self.splatting_progress = 1.0
 
     def as_dict(self):
         return {name: list(value) if isinstance(value, list) else value for name, value in vars(self).items()}
@@ -284,9 +282,7 @@ class ViewportSession:
                 pixels = self.context.render(width, height)
                 self.stats = self.context.stats()
                 splatted = sum(self.stats["splat_level_fragments"])
-                self.counters.max_splat_fragments = max(self.counters.max_splat_fragments, splatted)
                 self.counters.splat_fragments = (self.counters.splat_fragments + [splatted])[-1000:]
-                self.counters.splatting_progress = self.stats["splatting_progress"]
                 if self.stats["splatting_complete"]:
                     self.partial = None
                     self.accumulated = (pixels.astype(np.float64) if self.samples == 0

@@ -1,7 +1,6 @@
 #include "pipeline/splatting.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "material/splat_kernel.h"
 

@@ -20,8 +20,8 @@ namespace subsplat {
 struct SplatCursor {
   int level = 0;
   GLint first = 0;
-  // A budgeted render's bound of each sample's fragments at each level of this view, measured once
-  // for the view (splat.geom) and kept while its renders go on.
+  // A budgeted render's bound of each sample's fragments at each level of this view (splat.geom),
+  // measured a slice at a time ahead of the cursor and kept while the view's renders go on.
   std::vector<std::vector<GLuint>> bounds;
 };
 
@@ -39,7 +39,7 @@ struct SplatBudget {
   static constexpr uint64_t kSampleCost = 8;
   static constexpr GLint kBoundsSlice = 32768, kMinSlice = 256;  // samples measured at a time
   uint64_t fragments = 0;
-  uint64_t spent = 0;  // the bounds of what was drawn
+  uint64_t spent = 0;  // the bounds of what was drawn, and kSampleCost per sample measured or drawn
   bool drewAny = false;
   uint64_t left() const { return spent < fragments ? fragments - spent : 0; }
 };
@@ -52,8 +52,9 @@ class Splatting {
   // Adds the selected lit translucent samples of `irradiance` to the exitance
   // buffers (each level its range of distances), each level in its own
   // profiler span, and counts the samples selected per irradiance level.
-  // With a budget: from `cursor` on, in chunks while the budget lasts; `cursor` is left where it
-  // stopped. Returns whether every sample of the view has been drawn.
+  // With a budget: each level from `cursor` on, as many samples as the budget leaves room for (one
+  // draw per level); `cursor` is left where it stopped. Returns whether every sample of the view
+  // has been drawn.
   bool splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
              const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
              StageProfiler& profiler, SplatCursor* cursor = nullptr, SplatBudget* budget = nullptr);

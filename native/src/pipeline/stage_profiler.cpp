@@ -43,15 +43,6 @@ void StageProfiler::end() {
   open_ = false;
 }
 
-uint64_t StageProfiler::endCounted() {
-  bool wasOpen = open_;
-  end();
-  if (!wasOpen || !statistics_ || spans_.empty()) return 0;
-  GLuint64 fragments = 0;
-  glGetQueryObjectui64v(fragments_[spans_.size() - 1].id(), GL_QUERY_RESULT, &fragments);
-  return fragments;
-}
-
 void StageProfiler::collect(SsStats& stats) {
   end();
   std::vector<GLuint64> nanoseconds(spans_.size(), 0);

@@ -21,9 +21,6 @@ class StageProfiler {
   void newFrame();  // forgets the spans of a frame that ended without collect() (an error)
   void begin(SsStage stage, int part = kWhole);  // one span at a time
   void end();
-  // Ends the open span and waits for its fragment invocations (the splatting budget's measure);
-  // 0 without pipeline statistics. collect() reads the span again with the others.
-  uint64_t endCounted();
   bool countsFragments() const { return statistics_; }
   // Waits for the results and adds them to stats. Timer results longer than the frame's wall time
   // since newFrame() are not times (llvmpipe's first query in a context has reported the time since
