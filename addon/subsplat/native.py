@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 18  # SS_API_VERSION of subsplat.h
+API_VERSION = 19  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -146,7 +146,7 @@ class Stats(ctypes.Structure):
                 ("accumulation_fragments", ctypes.c_uint64), ("irradiance_resolution", ctypes.c_int32),
                 ("texels_per_range", ctypes.c_float), ("samples", ctypes.c_int32),
                 ("shadow_resolution", ctypes.c_int32), ("splatting_complete", ctypes.c_int32),
-                ("splatting_progress", ctypes.c_float)]
+                ("splatting_progress", ctypes.c_float), ("target_reachable", ctypes.c_int32)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -684,4 +684,5 @@ class Context:
             "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
             "samples": s.samples, "shadow_resolution": s.shadow_resolution,
             "splatting_complete": bool(s.splatting_complete), "splatting_progress": s.splatting_progress,
+            "target_reachable": bool(s.target_reachable),
         }

@@ -293,6 +293,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsStats, shadow_resolution),
     SS_FIELD(SsStats, splatting_complete),
     SS_FIELD(SsStats, splatting_progress),
+    SS_FIELD(SsStats, target_reachable),
     SS_STRUCT(SsResourceCounts),
     SS_FIELD(SsResourceCounts, contexts),
     SS_FIELD(SsResourceCounts, profile_sets),

@@ -186,7 +186,11 @@ void Renderer::render(int width, int height, float* rgba) {
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
-  int resolution = settings_.irradiance_resolution > 0 ? settings_.irradiance_resolution : chooseResolution(scene_, translucent, settings_.target_error, maxTextureSize_);
+  bool reachable = true;
+  int resolution = settings_.irradiance_resolution > 0
+                       ? settings_.irradiance_resolution
+                       : chooseResolution(scene_, translucent, settings_.target_error, maxTextureSize_,
+                                          nearestPixel(scene_, translucent, height), &reachable);
   Levels chosen = chooseLevels(scene_, settings_, width, height, translucent, resolution, adaptive, multires);
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   {
@@ -240,6 +244,7 @@ void Renderer::render(int width, int height, float* rgba) {
   stats_.levels = levels;
   stats_.splat_levels = splatLevels;
   stats_.irradiance_resolution = resolution;
+  stats_.target_reachable = reachable ? 1 : 0;
   double coarsest = lightTexel(scene_, translucent, resolution, false);
   stats_.texels_per_range = coarsest > 0.0 ? float(shortestRange(scene_) / coarsest) : 0.0f;
   int res = irradiance_.resolution();
@@ -422,6 +427,7 @@ void Renderer::renderReference(int width, int height, float* rgba) {
   reference_.render(scene_, options, width, height, rgba, progress_, stats);
   stats_ = stats;
   stats_.splatting_complete = 1;  // no budget: REFERENCE is for final renders
+  stats_.target_reachable = 1;      // no irradiance buffers
   stats_.splatting_progress = 1.0f;
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
 }

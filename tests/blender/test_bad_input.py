@@ -282,8 +282,12 @@ class BadInputTable(unittest.TestCase):
 
     def test_unrendered_features_are_named_in_warnings(self):
         """Blender features SubSplat does not render (issue 20), all in one scene rendered once: the
-        render says so, one warning each, naming what and where, and still renders (exit 0, an image)."""
+        render says so, one warning each, naming what and where, and still renders (exit 0, an image).
+        With them, a target error Automatic quality cannot meet (docs/AUTO.md): skin at 30 m per unit
+        scatters over a hundredth of the largest irradiance buffer's texel."""
         s = scene(light=False)
+        s.subsplat.quality = "AUTO"
+        s.subsplat.target_error = 0.002
         s.render.use_motion_blur = True
         s.camera.name = "Focused"
         s.camera.data.dof.use_dof = True
@@ -300,6 +304,7 @@ class BadInputTable(unittest.TestCase):
         painted.node_tree.links.new(texture.outputs["Color"], painted.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
         sphere(painted, radius=0.5, location=(-0.8, 0, 0), name="PaintedSphere")
         bumpy = skin("Bumpy")
+        bumpy.subsplat.mm_per_unit = 30000.0
         bumpy.use_nodes = True
         normal = bumpy.node_tree.nodes.new("ShaderNodeNormalMap")
         bumpy.node_tree.links.new(normal.outputs["Normal"], bumpy.node_tree.nodes["Principled BSDF"].inputs["Normal"])
@@ -313,7 +318,9 @@ class BadInputTable(unittest.TestCase):
                      "node, which SubSplat does not render; the world lights the scene with the socket's own colour",
                      "Warning: SubSplat: material 'Painted': Base Color is connected to a Image Texture node, which "
                      "SubSplat does not read",
-                     "Warning: SubSplat: material 'Bumpy': Normal is connected to a Normal Map node"):
+                     "Warning: SubSplat: material 'Bumpy': Normal is connected to a Normal Map node",
+                     "Warning: SubSplat: Automatic quality: the target error 0.2 % needs a finer irradiance buffer "
+                     "than the largest (2048²"):
             with self.subTest(text=text):
                 self.assertIn(text, output)
 

@@ -93,6 +93,8 @@ def render_image(engine, depsgraph, preview):
                      filter_width=render_settings.filter_width,
                      lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
         diagnostics.set_render_stats(stats)
+        if not stats["target_reachable"] and not preview:
+            engine.report({"WARNING"}, f"SubSplat: {unreachable_target_warning(settings, stats)}")
         passes = {EXITANCE_PASS: exitance}
         if debug:
             passes[SAMPLES_PASS] = context.render_pass(native.SS_PASS_SELECTION, width, height)
@@ -119,6 +121,14 @@ def render_image(engine, depsgraph, preview):
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
     samples = f"{stats['samples']} sample" + ("s" if stats["samples"] != 1 else "")
     engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {samples}, {detail}")
+
+
+def unreachable_target_warning(settings, stats):
+    """What Automatic quality says when its target needs more than the largest irradiance buffer."""
+    return (f"Automatic quality: the target error {100 * settings.target_error:.2g} % needs a finer irradiance "
+            f"buffer than the largest ({stats['irradiance_resolution']}²; {stats['texels_per_range']:.2f} texels "
+            f"across the shortest scattering range), so the error may exceed it. The scattering range is short "
+            f"for the lights' views: raise the target, or use Manual quality (docs/AUTO.md)")
 
 
 def scene_file_path(setting, frame):

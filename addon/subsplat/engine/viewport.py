@@ -327,7 +327,8 @@ class ViewportSession:
             progress = f"splatting {100 * self.stats['splatting_progress']:.0f} %, "
         engine.update_stats("", f"SubSplat {method}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
-                                f"{self.stats['irradiance_resolution']}² irradiance, "
+                                f"{self.stats['irradiance_resolution']}² irradiance"
+                                f"{'' if self.stats['target_reachable'] else ' (short of the target error)'}, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "
                                 f"{self.stats['splat_levels']} splatting levels")
 

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 18
+#define SS_API_VERSION 19
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -283,6 +283,11 @@ typedef struct SsStats {
    * view, level and sample). Without a budget: 1 and 1. */
   int32_t splatting_complete;
   float splatting_progress;
+  /* Automatic irradiance resolution (API 19): 0 when the target error needs more texels per R_P
+   * than the largest buffer gives (2048, or the GPU's texture limit): the render is at the
+   * largest, and the error the resolution adds may exceed the target (docs/AUTO.md). 1 otherwise,
+   * and at a fixed resolution. */
+  int32_t target_reachable;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

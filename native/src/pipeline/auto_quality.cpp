@@ -36,25 +36,51 @@ double lightTexel(const Scene& scene, const Bounds& translucent, int resolution,
   return texel;
 }
 
-double texelsPerRangeFor(double targetError) {
-  // The error the irradiance sampling adds, over what the finest buffer leaves, is at most
-  // 1 % * (texels per R_P / 1.5) ^ -2 on every example scene (bench/tradeoff.py --sweep auto;
-  // docs/AUTO.md), so a target t needs 1.5 * sqrt(1 % / t) texels per R_P.
-  constexpr double kModelError = 0.01, kModelTexels = 1.5, kModelPower = 2.0;
-  return kModelTexels * std::pow(kModelError / targetError, 1.0 / kModelPower);
+double texelsAcrossFor(double targetError) {
+  return kRuleTexels * std::pow(kRuleError / targetError, 1.0 / kRulePower);
 }
 
-int chooseResolution(const Scene& scene, const Bounds& translucent, double targetError, int maxTextureSize) {
+double shortestRadius(const Scene& scene, double energy) {
+  double radius = 0.0;
+  for (const MaterialEntry& m : scene.denseMaterials()) {
+    if (!m.kernel) continue;
+    for (int c = 0; c < 3; ++c) {
+      double r = m.kernel->channel(c).radiusForEnergy(energy) / m.kernel->mmPerUnit();
+      if (r > 0.0) radius = radius > 0.0 ? std::min(radius, r) : r;
+    }
+  }
+  return radius;
+}
+
+double nearestPixel(const Scene& scene, const Bounds& translucent, int height) {
+  if (translucent.empty() || height <= 0) return 0.0;
+  const SsCameraDesc& camera = scene.camera();
+  glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
+  glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
+  double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
+  double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
+  return extent / double(height);
+}
+
+double ruleLength(const Scene& scene, double pixel) {
+  double radius = shortestRadius(scene, kRuleEnergy);
+  return radius > 0.0 ? std::max(radius, kRulePixels * pixel) : 0.0;
+}
+
+int chooseResolution(const Scene& scene, const Bounds& translucent, double targetError, int maxTextureSize,
+                     double pixel, bool* reachable) {
   // Texels grow with 1 / resolution, so one probe gives the texels per R_P at every
   // resolution. The rungs step by 1.33-1.5 in texels across (about sqrt(2)), about 2 in work.
   constexpr int kProbe = 512;
   static constexpr int kRungs[] = {128, 192, 256, 384, 512, 768, 1024, 1536, 2048};
   int most = std::min(kAutoResolutionMax, maxTextureSize);
-  double range = shortestRange(scene), texel = lightTexel(scene, translucent, kProbe, false);
-  if (!(range > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
-  double needed = kProbe * texelsPerRangeFor(targetError) * texel / range;
+  if (reachable) *reachable = true;
+  double length = ruleLength(scene, pixel), texel = lightTexel(scene, translucent, kProbe, false);
+  if (!(length > 0.0) || !(texel > 0.0)) return kAutoResolutionMin;  // nothing translucent is lit
+  double needed = kProbe * texelsAcrossFor(targetError) * texel / length;
   for (int rung : kRungs)
     if (rung >= needed && rung <= most) return std::max(rung, kAutoResolutionMin);
+  if (reachable) *reachable = false;
   return most;
 }
 
@@ -93,12 +119,7 @@ Levels chooseLevels(const Scene& scene, const SsSettings& settings, int width, i
     // R_P, a ring 0.8 R_P wide: coarser than that, upsampling blurs the ring across
     // silhouettes and the error grows while the work hardly falls, since with eq. 14's
     // epsilon the finest level keeps most of [0, R_P) anyway (docs/MULTIRES.md).
-    const SsCameraDesc& camera = scene.camera();
-    glm::mat4 proj = glm::make_mat4(camera.view_to_clip);
-    glm::vec4 centre = glm::make_mat4(camera.world_to_view) * glm::vec4(translucent.center(), 1.0f);
-    double depth = std::max(double(-centre.z) - translucent.radius(), 1e-6);
-    double extent = camera.orthographic ? 2.0 / proj[1][1] : 2.0 * depth / proj[1][1];
-    double pixel = extent / double(height);
+    double pixel = nearestPixel(scene, translucent, height);
     levels.splat = clampLevels(std::log2(rangeMax / (kCoarsestPixelsPerRange * pixel)), maxSplat);
   }
   return levels;

@@ -30,23 +30,28 @@ struct SphereScene {
   Bounds translucent;
 };
 
-TEST(AutoQuality, TargetErrorModelGivesOneAndAHalfTexelsAtOnePercentAndScalesWithItsSquareRoot) {
-  EXPECT_DOUBLE_EQ(texelsPerRangeFor(0.01), 1.5);
-  EXPECT_NEAR(texelsPerRangeFor(0.0025), 3.0, 1e-12);
-  EXPECT_NEAR(texelsPerRangeFor(0.04), 0.75, 1e-12);
+// The rule's texels follow its error model: kRuleTexels at kRuleError, and a target k times smaller
+// needs k^(1 / kRulePower) times more.
+TEST(AutoQuality, TargetErrorModelGivesTheFittedTexelsAndScalesWithItsPower) {
+  EXPECT_DOUBLE_EQ(texelsAcrossFor(kRuleError), kRuleTexels);
+  EXPECT_NEAR(texelsAcrossFor(kRuleError / 4.0), kRuleTexels * std::pow(4.0, 1.0 / kRulePower), 1e-9);
+  EXPECT_NEAR(texelsAcrossFor(kRuleError * 4.0), kRuleTexels * std::pow(4.0, -1.0 / kRulePower), 1e-9);
+  EXPECT_GT(kRuleEnergy, 0.0);
+  EXPECT_LE(kRuleEnergy, 0.99);
 }
 
 TEST(AutoQuality, ResolutionIsTheSmallestRungWithEnoughTexelsPerRange) {
   SphereScene s(20.0f);
-  double range = shortestRange(s.scene);
+  double range = shortestRadius(s.scene, kRuleEnergy);
   ASSERT_GT(range, 0.0);
+  EXPECT_LE(range, shortestRange(s.scene) * (1.0 + 1e-9)) << "R_P holds 95 % of the energy";
   int previous = 0;
   for (double target : {0.5, 0.1, 0.03, 0.01, 0.003, 0.001}) {
-    int resolution = chooseResolution(s.scene, s.translucent, target, 16384);
+    int resolution = chooseResolution(s.scene, s.translucent, target, 16384, 0.0);
     EXPECT_NE(std::find(std::begin(kRungs), std::end(kRungs), resolution), std::end(kRungs)) << resolution;
     EXPECT_GE(resolution, previous) << "a smaller target never lowers the resolution";
     previous = resolution;
-    double needed = texelsPerRangeFor(target);
+    double needed = texelsAcrossFor(target);
     auto texelsPerRange = [&](int r) { return range / lightTexel(s.scene, s.translucent, r, false); };
     if (resolution < kAutoResolutionMax) EXPECT_GE(texelsPerRange(resolution), needed * 0.999) << target;
     if (resolution > kAutoResolutionMin) {
@@ -54,9 +59,18 @@ TEST(AutoQuality, ResolutionIsTheSmallestRungWithEnoughTexelsPerRange) {
       EXPECT_LT(texelsPerRange(below), needed) << target;
     }
   }
-  EXPECT_LE(chooseResolution(s.scene, s.translucent, 0.001, 256), 256) << "the GPU's texture limit";
+  bool reachable = false;
+  chooseResolution(s.scene, s.translucent, 0.5, 16384, 0.0, &reachable);
+  EXPECT_TRUE(reachable) << "a loose target is met";
+  EXPECT_LE(chooseResolution(s.scene, s.translucent, 0.001, 256, 0.0), 256) << "the GPU's texture limit";
+  SphereScene shorter(2000.0f);  // R_P a hundredth of the sphere's
+  EXPECT_EQ(chooseResolution(shorter.scene, shorter.translucent, 0.001, 256, 0.0, &reachable), 256);
+  EXPECT_FALSE(reachable) << "0.1 % needs more than 256 texels there";
+  SphereScene tiny(1e6f);  // R_P a few thousandths of the largest buffer's texel
+  EXPECT_EQ(chooseResolution(tiny.scene, tiny.translucent, 0.01, 16384, 0.0, &reachable), kAutoResolutionMax);
+  EXPECT_FALSE(reachable) << "a range far below the largest buffer's texel is said unreachable";
   SphereScene dark(20.0f, false);
-  EXPECT_EQ(chooseResolution(dark.scene, dark.translucent, 0.01, 16384), kAutoResolutionMin) << "nothing lit";
+  EXPECT_EQ(chooseResolution(dark.scene, dark.translucent, 0.01, 16384, 0.0), kAutoResolutionMin) << "nothing lit";
 }
 
 TEST(AutoQuality, LevelsFollowTheScatteringRanges) {
