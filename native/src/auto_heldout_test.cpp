@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "pipeline/auto_quality.h"
@@ -27,11 +28,13 @@ TEST(AutoQualityHeldOut, TheCalibrationAndTestSetsAreDisjointByConstruction) {
     EXPECT_EQ(testing::sceneSeed(SceneSet::Calibration, i) >> 63, 0u);
     EXPECT_EQ(testing::sceneSeed(SceneSet::Test, i) >> 63, 1u);
   }
+  std::vector<std::string> calibration, test;
+  for (int i = 0; i < 64; ++i) {
+    calibration.push_back(testing::proceduralScene(SceneSet::Calibration, i, 64, 48).description);
+    test.push_back(testing::proceduralScene(SceneSet::Test, i, 64, 48).description);
+  }
   int same = 0;
-  for (int i = 0; i < 64; ++i)
-    for (int j = 0; j < 64; ++j)
-      same += testing::proceduralScene(SceneSet::Calibration, i, 64, 48).description ==
-              testing::proceduralScene(SceneSet::Test, j, 64, 48).description;
+  for (const std::string& c : calibration) same += int(std::count(test.begin(), test.end(), c));
   EXPECT_EQ(same, 0) << "a test scene is described as a calibration scene";
   // A scene is a function of its set and index alone.
   EXPECT_EQ(testing::proceduralScene(SceneSet::Test, 3, 64, 48).description,
