@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About an
-# two hours on 2 cores (bench/physical.py alone about 25 minutes):
-#   - the automatic resolution on the calibration and held-out procedural scenes (CI: six);
+# The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About
+# two and a half hours on 2 cores (bench/physical.py alone about 25 minutes, bench/auto_sets.sh 30):
+#   - the automatic resolution on the calibration and held-out procedural scenes (CI: two test scenes);
 #   - the soak: 1000 renders in one Blender process (CI: 300);
 #   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
 #     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);
