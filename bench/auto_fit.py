@@ -67,14 +67,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("files", nargs="+")
     parser.add_argument("--target", type=float, default=0.01)
-    parser.add_argument("--sizes", help="subsplat_auto_sets --list --json output, for scenes saved without pixel sizes")
     args = parser.parse_args()
     energies, scenes = load(args.files)
-    if args.sizes:
-        with open(args.sizes) as f:
-            sizes = {s["index"]: s for s in json.load(f)["scenes"]}
-        for scene in scenes:
-            scene.setdefault("pixel", sizes[scene["index"]]["pixel"])
     results = fit(energies, scenes, args.target)
     print(f"{len(scenes)} calibration scenes, target {args.target}")
     print("energy pixels power  A (envelope)  texels needed  worst (scene, rung)  unreachable  mean texels^2 (M)")

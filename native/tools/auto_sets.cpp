@@ -1,19 +1,20 @@
 // subsplat_auto_sets: the automatic quality on procedural scenes it was not fitted on
 // (docs/AUTO.md, "Held-out scenes"). Two disjoint sets of scenes (native/src/testing/procedural.h):
 //
-//   --rungs (calibration)  BRUTE at every rung of the automatic resolution's ladder up to 1024 and
-//                          at the largest buffer (2048); per point the coarsest light texel, the
-//                          materials' energy radii and the error the rung adds over 2048's, for
-//                          bench/auto_fit.py.
+//   --rungs (calibration)  MULTIRES at every rung of the automatic resolution's ladder up to a
+//                          quarter of the scene's reference resolution (testing::referenceResolution),
+//                          and at that; per point the coarsest light texel, the materials' energy
+//                          radii, a pixel's size and the error the rung adds over the reference's,
+//                          for bench/auto_fit.py.
 //   default (test)         AUTO at the target: the resolution it chooses, and whether the library
-//                          says the target can be met; BRUTE at that resolution and at 2048, and
-//                          FULL at it (the image AUTO renders).
+//                          says the target can be met; MULTIRES at that resolution and at the
+//                          reference's, and FULL at it (the image AUTO renders).
 //
-// The error a resolution adds over the finest is bounded by its image's relative RMSE against the
-// finest image's (the triangle inequality), so no REFERENCE is needed.
+// The error a resolution adds over a converged one is bounded by its image's relative RMSE against
+// the converged image (the triangle inequality), so no REFERENCE is needed.
 //
 //   subsplat_auto_sets [--set calibration|test] [--first N] [--count N] [--size WxH]
-//                      [--target E] [--rungs] [--json FILE] [--images DIR]
+//                      [--target E] [--rungs] [--reference N] [--list] [--json FILE] [--images DIR]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -36,8 +37,6 @@ using subsplat::testing::kRungs;
 // Energy fractions whose radii the calibration reports (R_P is 0.95's).
 constexpr double kEnergies[] = {0.25, 0.5, 0.75, 0.95};
 
-
-
 [[noreturn]] void usage(const std::string& problem) {
   if (!problem.empty()) std::fprintf(stderr, "subsplat_auto_sets: %s\n\n", problem.c_str());
   std::fprintf(stderr,
@@ -46,10 +45,10 @@ constexpr double kEnergies[] = {0.25, 0.5, 0.75, 0.95};
                "  --first N, --count N    scenes N.. of the set (default 0, 12)\n"
                "  --size WxH              frame size (default 120x90)\n"
                "  --target E              the automatic resolution's target error (default 0.01)\n"
-               "  --rungs                 every rung against 2048 (calibration), not AUTO\n"
+               "  --rungs                 every rung against the converged reference (calibration), not AUTO\n"
                "  --reference N           also REFERENCE with N surface samples: AUTO's error over the reference\n"
                "                          resolution's, both against it (the issue's measure)\n"
-               "  --list                  print the scenes' descriptions only (--json: their sizes)\n"
+               "  --list                  print the scenes' descriptions only\n"
                "  --json FILE             write every figure as JSON\n"
                "  --images DIR            write each scene's image at AUTO's resolution (--rungs: at each rung), the\n"
                "                          reference's and their difference (PNG)\n");
@@ -100,16 +99,8 @@ int main(int argc, char** argv) {
   if (first < 0 || count < 1 || !(target >= 1e-3f && target <= 0.5f)) usage("--first >= 0, --count >= 1, --target in [0.001, 0.5]");
   if (!images.empty()) setenv("SUBSPLAT_TEST_OUTPUT", images.c_str(), 1);
   if (list) {
-    std::ostringstream listed;
-    listed << "{\"set\": \"" << subsplat::testing::setName(set) << "\", \"scenes\": [";
-    for (int index = first; index < first + count; ++index) {
-      subsplat::testing::ProceduralScene scene = subsplat::testing::proceduralScene(set, index, width, height);
-      std::printf("%3d  %s\n", index, scene.description.c_str());
-      listed << (index > first ? ", " : "") << "{\"index\": " << index << ", \"radius\": " << scene.radius
-             << ", \"thickness\": " << scene.thickness << ", \"pixel\": " << scene.pixel << "}";
-    }
-    listed << "]}\n";
-    if (!json.empty()) std::ofstream(json) << listed.str();
+    for (int index = first; index < first + count; ++index)
+      std::printf("%3d  %s\n", index, subsplat::testing::proceduralScene(set, index, width, height).description.c_str());
     return 0;
   }
 
@@ -130,7 +121,7 @@ int main(int argc, char** argv) {
     std::printf("%3d  %s\n", index, scene.description.c_str());
     out << (index > first ? ", " : "") << "{\"index\": " << index << ", \"seed\": " << scene.seed << ", \"description\": \""
         << scene.description << "\", \"radius\": " << scene.radius
-        << ", \"thickness\": " << scene.thickness << ", \"pixel\": " << scene.pixel << ", \"radii\": [";
+        << ", \"pixel\": " << scene.pixel << ", \"radii\": [";
     for (double e : kEnergies) out << (e == kEnergies[0] ? "" : ", ") << subsplat::testing::shortestRadius(scene, e);
     out << "], ";
     std::vector<float> finest, image, full;
@@ -164,6 +155,17 @@ int main(int argc, char** argv) {
     int chosen = fullStats.irradiance_resolution;
     bool reachable = fullStats.target_reachable != 0;
     int reference = subsplat::testing::referenceResolution(chosen, fullStats.texels_per_range);
+    double texel = fullStats.texels_per_range > 0.0f ? subsplat::testing::shortestRadius(scene, 0.95) / fullStats.texels_per_range : 0.0;
+    out << "\"resolution\": " << chosen << ", \"reference\": " << reference << ", \"texel\": " << texel << ", \"texels_per_range\": "
+        << fullStats.texels_per_range << ", \"reachable\": " << (reachable ? "true" : "false");
+    unreachable += !reachable;
+    if (reference <= chosen) {  // AUTO at the largest buffer: nothing finer to measure against
+      std::printf("     AUTO %4d: %6.2f texels per R_P; not measured (no finer buffer)%s\n", chosen, fullStats.texels_per_range,
+                  !reachable ? "; the library says the target cannot be met" : "");
+      out << "}";
+      std::fflush(stdout);
+      continue;
+    }
     if (!check(renderAt(context, SS_METHOD_MULTIRES, width, height, chosen, target, image, stats), "MULTIRES at AUTO's")) return 1;
     if (!check(renderAt(context, SS_METHOD_MULTIRES, width, height, reference, target, finest, finestStats), "the reference")) return 1;
     double added = subsplat::testing::relativeRmse(image, finest), fullAdded = subsplat::testing::relativeRmse(full, finest);
@@ -182,18 +184,13 @@ int main(int argc, char** argv) {
     }
     bool miss = reachable && added > target;
     missed += miss;
-    unreachable += !reachable;
     std::printf("     AUTO %4d: %6.2f texels per R_P; the resolution adds %.4f over %d (FULL at it: %.4f)%s\n", chosen,
-                fullStats.texels_per_range, added, reference, fullAdded,
-                !reachable ? "; the library says the target cannot be met" : miss ? "  MISSED" : "");
+                fullStats.texels_per_range, added, reference, fullAdded, miss ? "  MISSED" : "");
     std::fflush(stdout);
     if (!images.empty())
       subsplat::testing::writeComparison(std::string("auto_") + subsplat::testing::setName(set) + "_" + std::to_string(index), image,
                                          finest, width, height);
-    double texel = fullStats.texels_per_range > 0.0f ? subsplat::testing::shortestRadius(scene, 0.95) / fullStats.texels_per_range : 0.0;
-    out << "\"resolution\": " << chosen << ", \"reference\": " << reference << ", \"texel\": " << texel << ", \"texels_per_range\": "
-        << fullStats.texels_per_range << ", \"reachable\": " << (reachable ? "true" : "false") << ", \"added\": " << added
-        << ", \"full_added\": " << fullAdded << ", \"reference_error\": " << referenceError
+    out << ", \"added\": " << added << ", \"full_added\": " << fullAdded << ", \"reference_error\": " << referenceError
         << ", \"reference_added\": " << referenceAdded << "}";
   }
   out << "]";

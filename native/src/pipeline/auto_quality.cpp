@@ -63,7 +63,9 @@ double nearestPixel(const Scene& scene, const Bounds& translucent, int height) {
 }
 
 double ruleLength(const Scene& scene, double pixel) {
-  double radius = shortestRadius(scene, kRuleEnergy);
+  // At R_P's energy the kernels' cached ranges serve; another energy is searched for per channel
+  // (a bisection each) every frame.
+  double radius = kRuleEnergy == SplatKernel::kEffectiveRangeEnergy ? shortestRange(scene) : shortestRadius(scene, kRuleEnergy);
   return radius > 0.0 ? std::max(radius, kRulePixels * pixel) : 0.0;
 }
 

@@ -154,11 +154,9 @@ ProceduralScene proceduralScene(SceneSet set, int index, int width, int height) 
   static const char* kShapes[] = {"blob", "plate", "rod", "torus"};
   int shape = random.pick(4);
   ProceduralMesh object;
-  double thinnest = 1.0;  // before scaling; the mesh's reach is about 1
   if (shape == 1 || shape == 2) {  // a thin plate (a leaf, an ear) or a rod (a finger, a candle)
     double thin = shape == 1 ? random.logUniform(0.02, 0.1) : random.logUniform(0.1, 0.3);
     glm::dvec3 axes = shape == 1 ? glm::dvec3(1.0, random.uniform(0.4, 1.0), thin) : glm::dvec3(1.0, thin, thin * random.uniform(0.7, 1.0));
-    thinnest = 2.0 * std::min(axes.y, axes.z);
     double bend = random.uniform(-0.3, 0.3);  // a curl along x
     object = closedSurface(24, 48, false, [&](double u, double v) {
       glm::dvec3 p = sphereDirection(u, v) * axes;
@@ -167,7 +165,6 @@ ProceduralScene proceduralScene(SceneSet set, int index, int width, int height) 
     });
   } else if (shape == 3) {
     double minor = random.logUniform(0.08, 0.35);
-    thinnest = 2.0 * minor;
     object = closedSurface(24, 64, true, [&](double u, double v) {
       double phi = 2.0 * M_PI * u, theta = 2.0 * M_PI * v;
       double ring = 1.0 + minor * std::cos(theta);
@@ -175,7 +172,6 @@ ProceduralScene proceduralScene(SceneSet set, int index, int width, int height) 
     });
   } else {  // a blob: a sphere with three random ripples, squashed
     glm::dvec3 axes(1.0, random.uniform(0.6, 1.0), random.uniform(0.5, 1.0));
-    thinnest = 2.0 * std::min(axes.y, axes.z) * 0.7;  // less the ripples' dents
     struct Ripple { glm::dvec3 axis; double frequency, phase, amplitude; } ripples[3];
     for (Ripple& r : ripples)
       r = {random.direction(), random.uniform(1.0, 4.0), random.uniform(0.0, 2.0 * M_PI), random.uniform(0.03, 0.15)};
@@ -202,7 +198,6 @@ ProceduralScene proceduralScene(SceneSet set, int index, int width, int height) 
     lowest = std::min(lowest, p.z);
   }
   scene.radius = float(units);
-  scene.thickness = float(thinnest * scale);
 
   // The medium: a measured preset, or random (then a third of the time index-matched).
   double sizeMm = random.logUniform(1.0, 10000.0);  // the bounding radius, 1 mm to 10 m

@@ -34,8 +34,7 @@ struct ProceduralScene {
   std::vector<SsMaterialDesc> materials;  // id = index
   std::vector<SsLightDesc> lights;
   SsCameraDesc camera{};
-  float radius = 0.0f;     // the translucent object's bounding radius, scene units
-  float thickness = 0.0f;  // its thinnest dimension (a plate's, a rod's, a torus's tube's), scene units
+  float radius = 0.0f;  // the translucent object's bounding radius, scene units
   float mmPerUnit = 0.0f;
   float pixel = 0.0f;  // a pixel's size at the object's nearest depth, scene units
   // Sends the materials, meshes, lights and camera to the context; the first failure, or SS_OK.
