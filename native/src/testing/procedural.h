@@ -16,6 +16,14 @@ namespace subsplat::testing {
 
 // The two sets are disjoint by construction: a scene's seed carries its set in the top bit
 // (sceneSeed), so no calibration scene can be drawn again as a test scene.
+// Jensen et al. 2001's measured media (addon/subsplat/presets.py): sigma_s' and sigma_a per mm.
+struct PresetMedium {
+  const char* name;
+  float sigmaSPrime[3], sigmaA[3];
+};
+constexpr int kPresetMediaCount = 11;
+extern const PresetMedium kPresetMedia[kPresetMediaCount];
+
 enum class SceneSet { Calibration = 0, Test = 1 };
 uint64_t sceneSeed(SceneSet set, int index);
 const char* setName(SceneSet set);
