@@ -17,6 +17,10 @@ METHOD_ITEMS = [
     ("REFERENCE", "Reference",
      "The model's reference: the same model (the classical dipole) summed in object space on the CPU with "
      "ray-traced shadows (slow); exact for the model, not for the physics, whose truth is the Cycles twin"),
+    ("MATERIAL_EDIT", "Material Edit",
+     "Full's samples splatted once into the transport of a basis of profiles (Xu et al. 2007); while the "
+     "meshes, lights, camera and size stay as they were, an edit of a homogeneous material only recombines "
+     "it (docs/MATERIAL_EDIT.md). A scene with a SubEdit material is rendered as Full"),
 ]
 
 

@@ -1,7 +1,11 @@
 // Splat accumulation (eq. 17): adds the accumulated exitance of level k + 1,
 // upsampled with bilinear, depth and material weights, to level k. Pixels of
 // another object get no weight (light does not scatter between objects).
+// MATERIAL_EDIT's transport (transportLayers 8: transport_splat.frag) is gathered the same way,
+// every layer of the coarse level's array with the same weights.
 layout(binding = UNIT_COARSE_EXITANCE) uniform sampler2D coarseExitance;           // level k + 1, already accumulated
+layout(binding = UNIT_COARSE_TRANSPORT) uniform sampler2DArray coarseTransport;   // transportLayers > 0
+uniform int transportLayers;
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;  // the median-depth hierarchy
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 uniform int fineLevel;
@@ -10,7 +14,7 @@ uniform vec3 cameraPosition;
 uniform vec3 cameraForward;
 uniform float lambdaZ, lambdaM;
 uniform float boundingDiameter;  // R_w
-layout(location = 0) out vec4 exitance;
+layout(location = 0) out vec4 exitance[8];
 
 // Eq. 17's material weight, exp(-lambda_m |R_P(x_o) - R_P(x_j)|), with R_P
 // in millimetres, the unit the paper's profiles are measured in: a property of
@@ -20,7 +24,17 @@ float materialWeight(int a, int b) {
   return exp(-lambdaM * abs(ra - rb));
 }
 
+vec4 sums[8];
+void gather(ivec2 c, float w) {
+  if (transportLayers == 0) {
+    sums[0] += w * texelFetch(coarseExitance, c, 0);
+    return;
+  }
+  for (int l = 0; l < transportLayers; ++l) sums[l] += w * texelFetch(coarseTransport, ivec3(c, l), 0);
+}
+
 void main() {
+  for (int l = 0; l < 8; ++l) sums[l] = vec4(0.0);
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec4 po = texelFetch(splattingPositionObject, p, fineLevel);
   if (po.w < 0.0) discard;
@@ -30,8 +44,7 @@ void main() {
   vec2 q = (vec2(p) + 0.5) * 0.5 - 0.5;  // this pixel's centre in level k + 1 pixels
   ivec2 base = ivec2(floor(q));
   vec2 f = q - vec2(base);
-  vec4 sum = vec4(0.0);  // alpha: the TABULATED model's exitance-weighted incidence cosine
-  float total = 0.0;
+  float total = 0.0;  // sums' alpha: the TABULATED model's exitance-weighted incidence cosine
   for (int i = 0; i < 4; ++i) {
     ivec2 o = ivec2(i & 1, i >> 1);
     ivec2 c = clamp(base + o, ivec2(0), coarseSize - 1);
@@ -44,7 +57,7 @@ void main() {
     float wz = exp(-lambdaZ * abs(z - cz) / boundingDiameter);
     float wm = materialWeight(m, cm);
     float w = wp * wz * wm;
-    sum += w * texelFetch(coarseExitance, c, 0);
+    gather(c, w);
     total += w;
   }
   if (total <= 0.0) {
@@ -60,10 +73,10 @@ void main() {
         if (!isTranslucent(cm)) continue;
         float cz = dot(cpo.xyz - cameraPosition, cameraForward);
         float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) * materialWeight(m, cm);
-        sum += w * texelFetch(coarseExitance, c, 0);
+        gather(c, w);
         total += w;
       }
     if (total <= 0.0) discard;
   }
-  exitance = sum / total;
+  for (int l = 0; l < max(transportLayers, 1); ++l) exitance[l] = sums[l] / total;
 }

@@ -388,3 +388,38 @@ float softVisibilityAt(sampler2D map, int mapResolution, int resolution, vec3 p,
   return softVisibility(map, mapResolution, resolution, c.xy / c.w, lightDepthOf(offset), texel, slope, p,
                         ignoredObject);
 }
+// The screen rectangle (NDC, clipped) bounding a sphere of `radius` around view-space point c: the
+// projections of its view-space box's corners (the whole screen where a corner is behind the
+// camera). False where nothing of it is on screen. The splats' quads (splat.geom,
+// transport_splat.geom).
+bool splatQuad(vec3 c, float radius, mat4 worldToView, mat4 viewToClip, out vec2 lo, out vec2 hi) {
+  lo = vec2(1e30);
+  hi = vec2(-1e30);
+  bool behind = false;
+  for (int i = 0; i < 8; ++i) {
+    vec3 corner = c + radius * vec3((i & 1) != 0 ? 1.0 : -1.0, (i & 2) != 0 ? 1.0 : -1.0,
+                                    (i & 4) != 0 ? 1.0 : -1.0);
+    vec4 clip = viewToClip * vec4(corner, 1.0);
+    if (clip.w <= 1e-6) { behind = true; break; }
+    lo = min(lo, clip.xy / clip.w);
+    hi = max(hi, clip.xy / clip.w);
+  }
+  if (behind) { lo = vec2(-1.0); hi = vec2(1.0); }
+  lo = max(lo, vec2(-1.0));
+  hi = min(hi, vec2(1.0));
+  return !any(greaterThanEqual(lo, hi));
+}
+// A splat kernel table's value (material/splat_kernel.h) for a profile of support `support` in
+// layer `layer` at distance d, for a footprint sigma (splat.frag's kernelAt; transport_splat.frag).
+// Past the table's widest footprint the kernel is self-similar: the widest row at d scaled down,
+// times the scale squared. tableSize: (distance samples, footprint samples); log2Range: the rows'
+// log2(sigma / support) at first and last; reachFactor: the footprint's cut, x sigma.
+vec3 kernelLookup(sampler2DArray table, vec2 tableSize, vec2 log2Range, float reachFactor, float layer,
+                  float support, float d, float sigma) {
+  float row = clamp((log2(sigma / support) - log2Range.x) / (log2Range.y - log2Range.x), 0.0, 1.0);
+  float sigmaMax = support * exp2(log2Range.y);
+  float scale = sigma > sigmaMax ? sigmaMax / sigma : 1.0;
+  float reach = reachFactor * sigma * scale + support;
+  vec2 uv = (vec2(sqrt(min(d * scale / reach, 1.0)), row) * (tableSize - 1.0) + 0.5) / tableSize;
+  return texture(table, vec3(uv, layer)).rgb * (scale * scale);
+}

@@ -67,23 +67,8 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     range = clamp(vec2(rMin[0], rMin[1]), 0.0, reach);
     if (range.x >= range.y) return;
   }
-  float radius = range.y;
-
-  // Bound the sphere by the projections of its view-space box corners.
-  vec2 lo = vec2(1e30), hi = vec2(-1e30);
-  bool behind = false;
-  for (int i = 0; i < 8; ++i) {
-    vec3 corner = c + radius * vec3((i & 1) != 0 ? 1.0 : -1.0, (i & 2) != 0 ? 1.0 : -1.0,
-                                    (i & 4) != 0 ? 1.0 : -1.0);
-    vec4 clip = viewToClip * vec4(corner, 1.0);
-    if (clip.w <= 1e-6) { behind = true; break; }
-    lo = min(lo, clip.xy / clip.w);
-    hi = max(hi, clip.xy / clip.w);
-  }
-  if (behind) { lo = vec2(-1.0); hi = vec2(1.0); }
-  lo = max(lo, vec2(-1.0));
-  hi = min(hi, vec2(1.0));
-  if (any(greaterThanEqual(lo, hi))) return;
+  vec2 lo, hi;
+  if (!splatQuad(c, range.y, worldToView, viewToClip, lo, hi)) return;
   if (measureBounds != 0) {
     vec2 first = floor((lo * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;
     vec2 last = ceil((hi * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;

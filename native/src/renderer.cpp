@@ -45,7 +45,7 @@ void Renderer::setCamera(const SsCameraDesc& camera) {
 void Renderer::setSettings(const SsSettings& s) {
   resume_.valid = false;
   require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_MULTIRES || s.method == SS_METHOD_ADAPTIVE ||
-              s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE,
+              s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE || s.method == SS_METHOD_MATERIAL_EDIT,
           "unknown method " + std::to_string(s.method));
   require(std::isfinite(s.epsilon) && s.epsilon >= 0.0f && s.epsilon <= 0.5f,
           "epsilon must be 0 (the default) or in (0, 0.5], got " + std::to_string(s.epsilon));
@@ -127,14 +127,14 @@ EnvironmentInputs Renderer::uploadEnvironment() {
   return {environment ? environmentTexture_.id() : 0u, environment.rotation, environment.strength};
 }
 
-void Renderer::countCoverage(int width, int height, const float* rgba) {
+void Renderer::countCoverage(int width, int height, const float* rgba, GLuint exitance) {
   size_t pixels = size_t(width) * height;
   for (size_t i = 0; i < pixels; ++i) {
     const float* out = rgba + 4 * i;
     if (!std::isfinite(out[0]) || !std::isfinite(out[1]) || !std::isfinite(out[2]) || !std::isfinite(out[3]))
       ++stats_.nonfinite_pixels;
   }
-  CoverageCounts counts = coverage_.count(splatting_, splats_.exitance(), int(scene_.denseMaterials().size()),
+  CoverageCounts counts = coverage_.count(splatting_, exitance, int(scene_.denseMaterials().size()),
                                           width, height);
   stats_.translucent_pixels = counts.translucentPixels;
   stats_.lit_translucent_pixels = counts.litTranslucentPixels;
@@ -152,7 +152,8 @@ void Renderer::render(int width, int height, float* rgba) {
   lastMethod_ = -1;
   // A budgeted render goes on where the last stopped when nothing changed since (the buffers and
   // the splatted levels are as it left them); it is invalid again until this one succeeds.
-  bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments();
+  bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments() &&
+                  settings_.method != SS_METHOD_MATERIAL_EDIT;
   Resume resume = std::move(resume_);
   resume_ = Resume{};
   bool resuming = budgeted && resume.valid && resume.width == width && resume.height == height;
@@ -183,8 +184,16 @@ void Renderer::render(int width, int height, float* rgba) {
   const EnvironmentInputs environment = uploadEnvironment();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
   bindTexture(gl::UNIT_TEXTURE_TEXELS, GL_TEXTURE_BUFFER, materialTables_.textureTexels());
-  bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL;
-  bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL;
+  // MATERIAL_EDIT (docs/MATERIAL_EDIT.md) selects and splats as FULL; a scene with a heterogeneous
+  // material is FULL's. A render that reuses the transport splats nothing, at the precomputation's
+  // resolution and levels (its direct light as the precomputation's).
+  bool editing = settings_.method == SS_METHOD_MATERIAL_EDIT && !scene_.heterogeneous();
+  bool reuse = editing && transportServes(width, height);
+  if (editing && !reuse) precomputed_.valid = false;
+  bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL ||
+                  settings_.method == SS_METHOD_MATERIAL_EDIT;
+  bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL ||
+                  settings_.method == SS_METHOD_MATERIAL_EDIT;
   Bounds translucent = scene_.bounds(true), all = scene_.bounds(false);
   bool reachable = true;
   int resolution = settings_.irradiance_resolution > 0
@@ -192,6 +201,7 @@ void Renderer::render(int width, int height, float* rgba) {
                        : chooseResolution(scene_, translucent, settings_.target_error, maxTextureSize_,
                                           nearestPixel(scene_, translucent, height), &reachable);
   Levels chosen = chooseLevels(scene_, settings_, width, height, translucent, resolution, adaptive, multires);
+  if (reuse) resolution = precomputed_.resolution, chosen = {precomputed_.levels, precomputed_.splatLevels};
   int levels = chosen.irradiance, splatLevels = chosen.splat;
   {
     std::string size = std::to_string(resolution);
@@ -207,6 +217,13 @@ void Renderer::render(int width, int height, float* rgba) {
     splats_.setDebug(settings_.debug_passes != 0);
     splats_.resize(width, height, splatLevels);
     shading_.resize(width, height);
+  }
+  if (editing) {
+    gl::Purpose purpose("the material-edit transport (" + std::to_string(width) + " x " + std::to_string(height) +
+                        " pixels, " + std::to_string(splatLevels) + " levels, 2 x 8 RGBA32F layers each; lower the " +
+                        "render resolution or use FULL)");
+    transport_.resize(width, height, splatLevels);
+    if (!reuse) transport_.clear();
   }
   gl::checkErrors("buffer allocation");
 
@@ -303,7 +320,10 @@ void Renderer::render(int width, int height, float* rgba) {
     if (soft && !sun) inputs.softDepth = softMap_.lightDepth();
     return inputs;
   };
-  shadowCopies_.reset();
+  // A render that reuses MATERIAL_EDIT's transport reads the precomputation's shadow maps: it draws
+  // no light view the copies' budget kept (docs/MATERIAL_EDIT.md, "An edit").
+  ShadowCopies& copies = editing ? editShadows_ : shadowCopies_;
+  if (!reuse) copies.reset();
   SplatBudget budget;
   budget.fragments = splatBudget_;
   bool splatsStopped = false;
@@ -312,13 +332,22 @@ void Renderer::render(int width, int height, float* rgba) {
     // Going on (docs/VIEWPORT.md): the direct light is the first render's; only the views still
     // to splat are drawn again, while the budget lasts.
     if (reuseDirect && (i < resume.view || splatsStopped || translucent.empty())) continue;
-    profiler.begin(SS_STAGE_BUFFERS);
-    ShadowInputs inputs = renderView(i);
-    if (samples > 1) shadowCopies_.keep(i, inputs, scene_.tabulated());
-    if (scene_.tabulated()) irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport, softEntries[i] != 0);
-    if (adaptive) irradiance_.buildHierarchy();
-    profiler.end();
-    if (!translucent.empty() && !budgeted) {
+    const ShadowInputs* kept = reuse ? copies.find(i) : nullptr;
+    ShadowInputs inputs;
+    if (kept) {
+      inputs = *kept;
+    } else {
+      profiler.begin(SS_STAGE_BUFFERS);
+      inputs = renderView(i);
+      if (samples > 1 || (editing && !reuse)) copies.keep(i, inputs, scene_.tabulated());
+      if (scene_.tabulated())
+        irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport, softEntries[i] != 0);
+      if (adaptive && !reuse) irradiance_.buildHierarchy();
+      profiler.end();
+    }
+    if (!translucent.empty() && editing) {
+      if (!reuse) transport_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
+    } else if (!translucent.empty() && !budgeted) {
       splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
     } else if (!translucent.empty() && i == resume.view && !splatsStopped) {
       if (splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler, &resume.cursor, &budget))
@@ -334,14 +363,24 @@ void Renderer::render(int width, int height, float* rgba) {
     ++stats_.light_views;
     gl::checkErrors("light view");
   }
-  if (!translucent.empty()) {  // (one level: only keeps the debug copy)
-    splats_.accumulate(scene_, splatting_, {settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()},
-                       profiler, budgeted);
+  Accumulation accumulation{settings_.lambda_z, settings_.lambda_m, 2.0f * translucent.radius()};
+  if (!translucent.empty() && editing) {
+    if (!reuse) {
+      transport_.accumulate(scene_, splatting_, accumulation, profiler);
+      stats_.splat_count = transport_.readSelectionCounts(stats_.selected_per_level);
+      recordPrecomputation(width, height, resolution, levels, splatLevels, camera);
+    }
+    profiler.begin(SS_STAGE_SHADING);
+    transport_.combine(splatting_, editCoefficients());
+    profiler.end();
+  } else if (!translucent.empty()) {  // (one level: only keeps the debug copy)
+    splats_.accumulate(scene_, splatting_, accumulation, profiler, budgeted);
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
+  const GLuint exitanceTexture = editing ? transport_.exitance() : splats_.exitance();
   float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
-  shading_.finalShading(scene_, splatting_, splats_.exitance(), kernels.transport, settings_.background, environment,
+  shading_.finalShading(scene_, splatting_, exitanceTexture, kernels.transport, settings_.background, environment,
                         lights, samples > 1 ? weight : 1.0f, true);
   profiler.end();
 
@@ -359,7 +398,7 @@ void Renderer::render(int width, int height, float* rgba) {
     shading_.clear();
     // Each view's shadow map as the first sample kept it; one past the copies' budget is drawn again.
     for (size_t i = 0; i < views.size(); ++i) {
-      const ShadowInputs* kept = shadowCopies_.find(i);
+      const ShadowInputs* kept = copies.find(i);
       ShadowInputs drawn;
       if (kept == nullptr) {
         profiler.begin(SS_STAGE_BUFFERS);
@@ -375,10 +414,10 @@ void Renderer::render(int width, int height, float* rgba) {
     profiler.begin(SS_STAGE_SHADING);
     GLuint exitance = 0;
     if (!translucent.empty()) {
-      reprojection_.reproject(first, splatting_, splats_.exitance(), scene_.camera(), sampleBuffer_);
+      reprojection_.reproject(first, splatting_, exitanceTexture, scene_.camera(), sampleBuffer_);
       exitance = reprojection_.exitance();
     } else {
-      exitance = splats_.exitance();  // no translucent pixel reads it
+      exitance = exitanceTexture;  // no translucent pixel reads it
     }
     shading_.finalShading(scene_, sampleBuffer_, exitance, kernels.transport, settings_.background, environment,
                           lights, weight, false);
@@ -394,7 +433,7 @@ void Renderer::render(int width, int height, float* rgba) {
   profiler.end();
   gl::checkErrors("read-back");
   profiler.collect(stats_);
-  countCoverage(width, height, rgba);
+  countCoverage(width, height, rgba, exitanceTexture);
   stats_.width = width;
   stats_.height = height;
   bool complete = !budgeted || translucent.empty() || resume.view >= views.size();
@@ -412,7 +451,86 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats_.transport_reused = reuse ? 1 : 0;
+  lastFromTransport_ = editing;
+  stats_.transport_full_pipeline = settings_.method == SS_METHOD_MATERIAL_EDIT && !editing ? 1 : 0;
+  if (editing && !reuse) {
+    stats_.precompute_ms = stats_.frame_ms;
+    precomputed_.valid = true;
+  }
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
+}
+
+void Renderer::recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,
+                                    const SsCameraDesc& camera) {
+  Precomputed& p = precomputed_;
+  p.width = width, p.height = height, p.resolution = resolution, p.levels = levels, p.splatLevels = splatLevels;
+  p.camera = camera;
+  p.settings = settings_;
+  p.geometry = scene_.geometryVersion(), p.environment = scene_.environmentVersion();
+  p.entries.clear();
+  for (const MaterialEntry& m : scene_.denseMaterials()) {
+    Precomputed::Entry e;
+    e.id = m.id;
+    e.translucent = m.kernel != nullptr;
+    if (m.kernel) {
+      const auto& ranges = m.kernel->effectiveRange();
+      e.range = std::max({ranges[0], ranges[1], ranges[2]});
+      e.mmPerUnit = m.kernel->mmPerUnit();
+      DipoleMaterial medium = dipoleMaterial(m.desc);
+      for (int c = 0; c < 3; ++c) e.eta[size_t(c)] = medium.channels[size_t(c)].eta;
+      e.transport = m.transport;
+    }
+    p.entries.push_back(e);
+  }
+}
+
+bool Renderer::transportServes(int width, int height) const {
+  const Precomputed& p = precomputed_;
+  if (!p.valid || p.width != width || p.height != height) return false;
+  if (std::memcmp(&p.camera, &scene_.camera(), sizeof p.camera) != 0) return false;
+  if (std::memcmp(&p.settings, &settings_, sizeof p.settings) != 0) return false;
+  if (p.geometry != scene_.geometryVersion() || p.environment != scene_.environmentVersion()) return false;
+  const auto& dense = scene_.denseMaterials();
+  if (dense.size() != p.entries.size()) return false;
+  for (size_t i = 0; i < dense.size(); ++i) {
+    const MaterialEntry& m = dense[i];
+    const Precomputed::Entry& e = p.entries[i];
+    if (m.id != e.id || (m.kernel != nullptr) != e.translucent) return false;
+    if (!m.kernel) continue;
+    // The Fresnel transmittance at entry is in the transport; the basis reaches kEditReach R_P.
+    DipoleMaterial medium = dipoleMaterial(m.desc);
+    for (int c = 0; c < 3; ++c)
+      if (medium.channels[size_t(c)].eta != e.eta[size_t(c)]) return false;
+    if (m.kernel->mmPerUnit() != e.mmPerUnit || m.kernel->supportRadius() > kEditReach * e.range) return false;
+  }
+  return true;
+}
+
+std::vector<EditCoefficients> Renderer::editCoefficients() const {
+  const ProfileBasis& basis = TransportSplatting::basis();
+  const auto& dense = scene_.denseMaterials();
+  std::vector<EditCoefficients> result(dense.size());
+  for (size_t i = 0; i < dense.size(); ++i) {
+    const MaterialEntry& m = dense[i];
+    if (!m.kernel || i >= precomputed_.entries.size()) continue;
+    const Precomputed::Entry& e = precomputed_.entries[i];
+    const SplatKernel& kernel = *m.kernel;
+    for (int c = 0; c < 3; ++c) {
+      // The channel as the splatting uses it (cut at the support, renormalised), in R_P units.
+      std::shared_ptr<const RadialProfile> channel(m.kernel, &kernel.channel(c));
+      SupportedProfile cut(channel, kernel.supportRadius() * kernel.mmPerUnit());
+      std::vector<double> coefficients = basis.project({&cut, e.range * e.mmPerUnit});
+      for (int j = 0; j < EditCoefficients::kSplines; ++j) result[i].spline[j][c] = float(coefficients[size_t(j)]);
+      for (int k = 0; k < EditCoefficients::kCosines; ++k) {
+        double mu0 = std::pow(double(k) / (EditCoefficients::kCosines - 1), 2.0);
+        double edited = m.transport ? m.transport->incidence(c, HUGE_VAL, mu0) : 1.0;
+        double before = e.transport ? e.transport->incidence(c, HUGE_VAL, mu0) : 1.0;
+        result[i].incidence[k][c] = before > 0.0 ? float(edited / before) : 1.0f;
+      }
+    }
+  }
+  return result;
 }
 
 void Renderer::renderReference(int width, int height, float* rgba) {
@@ -440,6 +558,8 @@ void Renderer::readPass(int pass, int width, int height, float* rgba) {
           "pass size " + std::to_string(width) + " x " + std::to_string(height) + " differs from the last render's " +
               std::to_string(lastWidth_) + " x " + std::to_string(lastHeight_));
   size_t pixels = size_t(width) * height;
+  if (lastMethod_ == SS_METHOD_MATERIAL_EDIT)
+    require(pass == SS_PASS_EXITANCE, "MATERIAL_EDIT has only the exitance pass");
   if (lastMethod_ == SS_METHOD_REFERENCE) {
     require(pass == SS_PASS_EXITANCE, "REFERENCE has only the exitance pass");
     std::copy(reference_.exitance().begin(), reference_.exitance().begin() + 4 * pixels, rgba);
@@ -478,7 +598,7 @@ void Renderer::readPass(int pass, int width, int height, float* rgba) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glBindTexture(GL_TEXTURE_2D, splatting_.normalMaterial());
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, normalMaterial.data());
-  glBindTexture(GL_TEXTURE_2D, splats_.exitance());
+  glBindTexture(GL_TEXTURE_2D, lastFromTransport_ ? transport_.exitance() : splats_.exitance());
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, rgba);
   gl::checkErrors("pass read-back");
   const auto& materials = scene_.denseMaterials();

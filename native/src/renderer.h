@@ -10,6 +10,7 @@
 #include "pipeline/splatting.h"
 #include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
+#include "pipeline/transport_splatting.h"
 #include "reference/reference_renderer.h"
 #include "scene.h"
 
@@ -59,7 +60,7 @@ class Renderer {
   EnvironmentInputs uploadEnvironment();
   // Coverage figures of the frame for SsStats (tests and the UI read them): non-finite
   // pixels of the image, translucent and lit translucent pixels counted on the GPU.
-  void countCoverage(int width, int height, const float* rgba);
+  void countCoverage(int width, int height, const float* rgba, GLuint exitance);
   void renderReference(int width, int height, float* rgba);
 
   Scene scene_;
@@ -71,9 +72,11 @@ class Renderer {
   SplattingBuffer sampleBuffer_;   // the other samples' (anti-aliasing), one at a time
   ExitanceReprojection reprojection_;
   ShadowCopies shadowCopies_;      // the first sample's shadow maps, for the others
+  ShadowCopies editShadows_;       // MATERIAL_EDIT's: the precomputation's, for its edits' direct light
   ShadowMap shadowMap_;            // the hard shadows' map, when its resolution is not the irradiance's
   ShadowMap softMap_;              // every surface at the irradiance's resolution, for SoftEntries
   Splatting splats_;
+  TransportSplatting transport_;   // MATERIAL_EDIT's
   Shading shading_;
   Coverage coverage_;
   StageProfiler profiler_;  // its queries are reused by every frame of this context
@@ -85,6 +88,7 @@ class Renderer {
   ReferenceRenderer reference_;
   ProgressFunction progress_;
   int lastMethod_ = -1, lastWidth_ = 0, lastHeight_ = 0;  // of the last successful render
+  bool lastFromTransport_ = false;  // its exitance is MATERIAL_EDIT's (transport_), not splats_'s
   // Where a budgeted render's splatting stopped: light view, and level and sample within it. Valid
   // after a budgeted render that stopped early, until anything changes.
   struct Resume {
@@ -95,6 +99,31 @@ class Renderer {
   };
   uint64_t splatBudget_ = 0;
   Resume resume_;
+  // MATERIAL_EDIT (docs/MATERIAL_EDIT.md): what the transport in transport_ was precomputed for.
+  // It serves a render while the size, camera, settings, meshes, lights and environment are the
+  // same and every material can be projected onto its basis (transportServes).
+  struct Precomputed {
+    bool valid = false;
+    int width = 0, height = 0, resolution = 0, levels = 0, splatLevels = 0;
+    SsCameraDesc camera{};
+    SsSettings settings{};
+    uint64_t geometry = 0, environment = 0;
+    struct Entry {
+      uint32_t id = 0;
+      bool translucent = false;
+      double range = 0.0, mmPerUnit = 1.0;  // R_P (the longest channel's), scene units
+      std::array<double, 3> eta{};
+      std::shared_ptr<const TransportTables> transport;  // TABULATED
+    };
+    std::vector<Entry> entries;
+  };
+  Precomputed precomputed_;  // valid once the render that precomputed it has succeeded
+  bool transportServes(int width, int height) const;
+  // What the transport splatted this render was precomputed for (camera: the host's).
+  void recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,
+                            const SsCameraDesc& camera);
+  // The dense entries' coefficients on the precomputed basis (transport_combine.frag).
+  std::vector<EditCoefficients> editCoefficients() const;
 };
 
 }  // namespace subsplat

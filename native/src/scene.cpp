@@ -183,11 +183,13 @@ void Scene::setMesh(uint32_t objectId, const SsMeshDesc& d) {
   if (observer_) observer_->meshSet(objectId, mesh);
   meshes_[objectId] = std::move(mesh);
   resolvedVersion_ = ~0ull;
+  ++geometryVersion_;
 }
 
 void Scene::removeMesh(uint32_t objectId) {
   require(meshes_.erase(objectId) == 1, "no mesh with object id " + std::to_string(objectId));
   if (observer_) observer_->meshRemoved(objectId);
+  ++geometryVersion_;
 }
 
 void Scene::clear() {
@@ -202,6 +204,7 @@ void Scene::clear() {
   environment_ = Environment{};
   ++environmentVersion_;
   ++materialVersion_;
+  ++geometryVersion_;
 }
 
 void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
@@ -257,6 +260,7 @@ void Scene::setLights(const SsLightDesc* lights, uint32_t count) {
               name + ": spot size must be in (0, pi] and blend in [0, 1]");
   }
   lights_ = std::move(list);
+  ++geometryVersion_;
 }
 
 void Scene::setEnvironment(const SsEnvironmentDesc& desc, std::shared_ptr<const TextureImage> image) {

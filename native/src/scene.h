@@ -127,6 +127,9 @@ class Scene {
   bool hasCamera() const { return hasCamera_; }
   Bounds bounds(bool translucentOnly) const;
   uint64_t materialVersion() const { return materialVersion_; }
+  // Counts the changes of meshes and lights (a transport precomputed for them serves while it
+  // has the same count: MATERIAL_EDIT).
+  uint64_t geometryVersion() const { return geometryVersion_; }
   // Whether some material reads a texture (the camera buffers then keep each pixel's albedo).
   bool textured() const { return textured_; }
 
@@ -142,7 +145,7 @@ class Scene {
   bool hasCamera_ = false;
   Environment environment_;
   uint64_t environmentVersion_ = 0;
-  uint64_t materialVersion_ = 0, resolvedVersion_ = ~0ull, resolutionCount_ = 0;
+  uint64_t materialVersion_ = 0, resolvedVersion_ = ~0ull, resolutionCount_ = 0, geometryVersion_ = 0;
   int nextMeshIndex_ = 0;
   MeshObserver* observer_ = nullptr;
 };

@@ -22,7 +22,7 @@
 
 namespace {
 
-const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"};
+const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT"};
 const char* const kStageNames[] = {"buffers", "splatting", "shading", "readback"};
 
 // A method, optionally with its own level count and epsilon: "FULL:0" is FULL with
@@ -104,9 +104,9 @@ Options parse(int argc, char** argv) {
         size_t at = entry.find('@');
         std::string head = entry.substr(0, at);
         std::string name = head.substr(0, head.find(':'));
-        auto it = std::find_if(std::begin(kMethodNames), std::end(kMethodNames) - 1,
+        auto it = std::find_if(std::begin(kMethodNames), std::begin(kMethodNames) + SS_METHOD_REFERENCE,
                                [&](const char* m) { return name == m; });
-        if (it == std::end(kMethodNames) - 1) usage("unknown method " + name);
+        if (it == std::begin(kMethodNames) + SS_METHOD_REFERENCE) usage("unknown method " + name);
         int levels = -1;
         if (head.find(':') != std::string::npos) levels = parseInt(head.substr(head.find(':') + 1), "levels");
         if (levels > 8) usage("levels of " + entry + " must be in [0, 8]");

@@ -76,13 +76,17 @@ class GlStateUnchanged(unittest.TestCase):
         helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
         subsplat.diagnostics.check_gl_state = True
         try:
-            for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE"):
+            for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT"):
                 with self.subTest(method=method):
                     scene.subsplat.method = method
-                    scene.subsplat.debug_passes = method != "REFERENCE"
+                    scene.subsplat.debug_passes = method not in ("REFERENCE", "MATERIAL_EDIT")
                     bpy.ops.render.render()
                     self.assertIsNone(subsplat.last_render_error())
-                    self.assertEqual(subsplat.last_render_stats()["gl_state_changes"], [])
+                    stats = subsplat.last_render_stats()
+                    self.assertEqual(stats["gl_state_changes"], [])
+                    # an F12 render has a context of its own: MATERIAL_EDIT precomputes its transport
+                    self.assertEqual(stats["precompute_ms"] > 0, method == "MATERIAL_EDIT")
+                    self.assertFalse(stats["transport_reused"])
         finally:
             subsplat.diagnostics.check_gl_state = False
 

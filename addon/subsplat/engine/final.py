@@ -18,10 +18,14 @@ def level_pass(k):
     return f"SubSplat Level {k}"
 
 
+# Methods whose renders have the exitance pass only.
+NO_DEBUG_PASSES = ("REFERENCE", "MATERIAL_EDIT")
+
+
 def pass_names(scene):
     """The passes a render of scene writes (the compositor's Render Layers node lists them)."""
     names = ["Combined", EXITANCE_PASS]
-    if scene is not None and scene.subsplat.debug_passes and scene.subsplat.method != "REFERENCE":
+    if scene is not None and scene.subsplat.debug_passes and scene.subsplat.method not in NO_DEBUG_PASSES:
         names.append(SAMPLES_PASS)
         names += [level_pass(k) for k in range(MAX_DEBUG_LEVELS)]
     return names
@@ -51,7 +55,7 @@ def render_image(engine, depsgraph, preview):
     frame.camera = export.camera.bordered(frame.camera, border, full_width, full_height)
     width, height = border[2], border[3]
     export_ms = (time.perf_counter() - start) * 1e3
-    debug = settings.debug_passes and settings.method != "REFERENCE"
+    debug = settings.debug_passes and settings.method not in NO_DEBUG_PASSES
     render_settings = export_settings.render_settings(scene, debug, warnings=frame.warnings)
     if not preview:  # the material preview scene's area lights are Blender's, not the user's
         for warning in frame.warnings:
@@ -95,6 +99,8 @@ def render_image(engine, depsgraph, preview):
         diagnostics.set_render_stats(stats)
         if not stats["target_reachable"] and not preview:
             engine.report({"WARNING"}, f"SubSplat: {unreachable_target_warning(settings, stats)}")
+        if stats["transport_full_pipeline"] and not preview:
+            engine.report({"WARNING"}, f"SubSplat: {FULL_PIPELINE_WARNING}")
         passes = {EXITANCE_PASS: exitance}
         if debug:
             passes[SAMPLES_PASS] = context.render_pass(native.SS_PASS_SELECTION, width, height)
@@ -121,6 +127,11 @@ def render_image(engine, depsgraph, preview):
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
     samples = f"{stats['samples']} sample" + ("s" if stats["samples"] != 1 else "")
     engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {samples}, {detail}")
+
+
+# MATERIAL_EDIT on a scene its transport cannot carry (docs/MATERIAL_EDIT.md).
+FULL_PIPELINE_WARNING = ("Material Edit: a SubEdit (heterogeneous) material is in the scene, which the precomputed "
+                         "transport does not carry; the frame was rendered with Full")
 
 
 def unreachable_target_warning(settings, stats):

@@ -325,6 +325,10 @@ class ViewportSession:
         progress = ""
         if self.partial is not None:
             progress = f"splatting {100 * self.stats['splatting_progress']:.0f} %, "
+        if scene.subsplat.method == "MATERIAL_EDIT":  # what the frame did with the transport
+            progress += ("rendered with Full (a SubEdit material), " if self.stats["transport_full_pipeline"] else
+                         "transport reused, " if self.stats["transport_reused"] else
+                         f"transport precomputed in {self.stats['precompute_ms']:.0f} ms, ")
         engine.update_stats("", f"SubSplat {method}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance"

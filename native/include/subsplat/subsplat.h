@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 19
+#define SS_API_VERSION 20
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -53,7 +53,12 @@ typedef enum SsMethod {
   SS_METHOD_MULTIRES = 1, /* every finest texel, multiresolution splatting (eq. 12-14, 17) */
   SS_METHOD_ADAPTIVE = 2, /* adaptive sample selection (eq. 10, 11), one splatting level */
   SS_METHOD_FULL = 3,     /* both: the paper's method */
-  SS_METHOD_REFERENCE = 4 /* ground truth: eq. 4/5 in object space on the CPU (Embree) */
+  SS_METHOD_REFERENCE = 4, /* ground truth: eq. 4/5 in object space on the CPU (Embree) */
+  /* Material editing by precomputed transport (Xu et al. 2007; API 20, docs/MATERIAL_EDIT.md):
+   * FULL's samples splatted once into the transport of a basis of profiles; while meshes, lights,
+   * camera, environment, settings and size stay as they were, a material edit only recombines it.
+   * A scene with a heterogeneous (SubEdit) material is rendered as FULL. */
+  SS_METHOD_MATERIAL_EDIT = 5
 } SsMethod;
 
 typedef enum SsLightType {
@@ -288,6 +293,12 @@ typedef struct SsStats {
    * largest, and the error the resolution adds may exceed the target (docs/AUTO.md). 1 otherwise,
    * and at a fixed resolution. */
   int32_t target_reachable;
+  /* SS_METHOD_MATERIAL_EDIT (API 20): the wall time of this render when it precomputed the
+   * transport (0 when it reused it, and for the other methods); 1 when it reused the transport
+   * of an earlier render; 1 when the scene has a heterogeneous material and the render was FULL's. */
+  double precompute_ms;
+  int32_t transport_reused;
+  int32_t transport_full_pipeline;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

@@ -46,7 +46,11 @@
   X(UNIT_SPLATTING_SHADING_NORMAL, 27, GL_TEXTURE_2D)         \
   X(UNIT_TEXTURE_TEXELS, 28, GL_TEXTURE_BUFFER)               \
   X(UNIT_ENVIRONMENT, 29, GL_TEXTURE_2D)                      \
-  X(UNIT_SOFT_DEPTH, 30, GL_TEXTURE_2D)
+  X(UNIT_SOFT_DEPTH, 30, GL_TEXTURE_2D)                       \
+  X(UNIT_BASIS_KERNELS, 31, GL_TEXTURE_2D_ARRAY)              \
+  X(UNIT_COARSE_TRANSPORT, 32, GL_TEXTURE_2D_ARRAY)           \
+  X(UNIT_NEAR_TRANSPORT, 33, GL_TEXTURE_2D_ARRAY)             \
+  X(UNIT_FAR_TRANSPORT, 34, GL_TEXTURE_2D_ARRAY)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \
@@ -64,7 +68,8 @@
   X(STORAGE_MATERIALS, 0)            \
   X(STORAGE_SELECTION_COUNTS, 1)    \
   X(STORAGE_COVERAGE_COUNTS, 2)      \
-  X(STORAGE_SPLAT_BOUNDS, 3)
+  X(STORAGE_SPLAT_BOUNDS, 3)         \
+  X(STORAGE_EDIT_COEFFICIENTS, 4)
 
 // X(name, value): enums the shaders share with the C API (subsplat.h).
 #define SUBSPLAT_SHARED_ENUMS(X)    \

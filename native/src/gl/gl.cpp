@@ -210,6 +210,17 @@ VertexArray makeVertexArray() {
   return VertexArray(id);
 }
 
+// The bound framebuffer's draw buffers; throws unless it is complete.
+static void completeFramebuffer(const std::vector<GLenum>& drawBuffers) {
+  glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
+  GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%04x", unsigned(status));
+    fail(SS_GL_ERROR, "framebuffer incomplete (status " + std::string(hex) + ")");
+  }
+}
+
 Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture) {
   GLuint id = 0;
   glGenFramebuffers(1, &id);
@@ -222,13 +233,21 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
     drawBuffers.push_back(attachment);
   }
   if (depthTexture) glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthTexture, 0);
-  glDrawBuffers(GLsizei(drawBuffers.size()), drawBuffers.data());
-  GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE) {
-    char hex[16];
-    std::snprintf(hex, sizeof hex, "0x%04x", unsigned(status));
-    fail(SS_GL_ERROR, "framebuffer incomplete (status " + std::string(hex) + ")");
+  completeFramebuffer(drawBuffers);
+  return framebuffer;
+}
+
+Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers) {
+  GLuint id = 0;
+  glGenFramebuffers(1, &id);
+  Framebuffer framebuffer(id);
+  glBindFramebuffer(GL_FRAMEBUFFER, id);
+  std::vector<GLenum> drawBuffers;
+  for (int l = 0; l < layers; ++l) {
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + GLenum(l), arrayTexture, 0, l);
+    drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + GLenum(l));
   }
+  completeFramebuffer(drawBuffers);
   return framebuffer;
 }
 

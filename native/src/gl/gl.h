@@ -132,6 +132,8 @@ Buffer makeBuffer(GLenum target, size_t bytes, const void* data, GLenum usage = 
 Texture makeBufferTexture(GLenum internalFormat, const Buffer& buffer);
 VertexArray makeVertexArray();
 Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture);
+// Layers 0 .. layers - 1 of a 2D array texture as colour attachments 0 .. layers - 1.
+Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers);
 // Compiles and links shaders by name from the embedded table (shaders/*.glsl);
 // throws with the info log on failure.
 Program makeProgram(const std::string& vertex, const std::string& geometry,

@@ -77,6 +77,35 @@ ProfileBasis::ProfileBasis(std::vector<double> knots, int degree) : knots_(std::
   t_.assign(size_t(degree_), 0.0);
   t_.insert(t_.end(), knots_.begin(), knots_.end());
   t_.insert(t_.end(), size_t(degree_), knots_.back());
+  // Each piece from its values at u = 0, h / 2, h (exact: degree <= 2), and the energies at the knots.
+  size_t m = knots_.size() - 1;
+  pieces_.assign(size_t(size()) * m * 3, 0.0);
+  energyAtKnot_.assign(size_t(size()) * knots_.size(), 0.0);
+  for (int j = 0; j < size(); ++j)
+    for (size_t k = 0; k < m; ++k) {
+      double h = knots_[k + 1] - knots_[k];
+      double v[3], f0, f1, f2;
+      valuesOnInterval(int(k), knots_[k], v);
+      f0 = (j >= int(k) && j <= int(k) + degree_) ? v[j - int(k)] : 0.0;
+      valuesOnInterval(int(k), knots_[k] + 0.5 * h, v);
+      f1 = (j >= int(k) && j <= int(k) + degree_) ? v[j - int(k)] : 0.0;
+      valuesOnInterval(int(k), knots_[k + 1], v);
+      f2 = (j >= int(k) && j <= int(k) + degree_) ? v[j - int(k)] : 0.0;
+      double* a = &pieces_[(size_t(j) * m + k) * 3];
+      a[0] = f0;
+      a[2] = 2.0 * (f2 - 2.0 * f1 + f0) / (h * h);
+      a[1] = (f2 - f0) / h - a[2] * h;
+      energyAtKnot_[size_t(j) * knots_.size() + k + 1] =
+          energyAtKnot_[size_t(j) * knots_.size() + k] + pieceEnergy(j, int(k), h);
+    }
+}
+
+double ProfileBasis::pieceEnergy(int j, int k, double u) const {
+  const double* a = &pieces_[(size_t(j) * (knots_.size() - 1) + size_t(k)) * 3];
+  double r0 = knots_[size_t(k)], u2 = u * u, u3 = u2 * u;
+  // integral over [0, u] of (r0 + x)(a0 + a1 x + a2 x^2) 2 pi dx
+  return kTwoPi * (r0 * (a[0] * u + a[1] * u2 / 2.0 + a[2] * u3 / 3.0) +
+                   (a[0] * u2 / 2.0 + a[1] * u3 / 3.0 + a[2] * u3 * u / 4.0));
 }
 
 ProfileBasis ProfileBasis::uniform(double reach, int intervals, int degree) {
@@ -126,6 +155,14 @@ double ProfileBasis::evaluate(const std::vector<double>& c, double r) const {
   double sum = 0.0;
   for (int q = 0; q <= degree_; ++q) sum += c[size_t(k + q)] * v[q];
   return sum;
+}
+
+double ProfileBasis::energyWithin(int j, double r) const {
+  if (r <= 0.0 || j < 0 || j >= size()) return 0.0;
+  size_t knots = knots_.size();
+  if (r >= reach()) return energyAtKnot_[size_t(j) * knots + knots - 1];
+  int k = intervalOf(r);
+  return energyAtKnot_[size_t(j) * knots + size_t(k)] + pieceEnergy(j, k, r - knots_[size_t(k)]);
 }
 
 double ProfileBasis::total(const std::vector<double>& c) const {

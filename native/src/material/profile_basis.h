@@ -42,6 +42,11 @@ class ProfileBasis {
   static ProfileBasis fitted(const std::vector<ScaledProfile>& family, double reach, int intervals, int degree);
 
   int size() const { return int(knots_.size()) - 1 + degree_; }
+  // Where B_j is non-zero: [supportStart(j), supportEnd(j)].
+  double supportStart(int j) const { return t_[size_t(j)]; }
+  double supportEnd(int j) const { return t_[size_t(j + degree_ + 1)]; }
+  // The integral of B_j over the disk of radius r, 2 pi s ds (exact).
+  double energyWithin(int j, double r) const;
   int degree() const { return degree_; }
   double reach() const { return knots_.back(); }
   const std::vector<double>& knots() const { return knots_; }
@@ -70,9 +75,13 @@ class ProfileBasis {
   std::vector<double> knots_;  // distinct, increasing
   int degree_ = 1;
   std::vector<double> t_;      // the clamped knot vector
+  std::vector<double> energyAtKnot_;  // energyWithin(j, r_k), size() x knots
+  // B_j on interval k as a0 + a1 u + a2 u^2, u = r - r_k: size() x intervals x 3.
+  std::vector<double> pieces_;
   // The basis functions non-zero on knot interval k: j = k .. k + degree.
   void valuesOnInterval(int k, double r, double* out) const;
   int intervalOf(double r) const;
+  double pieceEnergy(int j, int k, double u) const;  // of B_j over [r_k, r_k + u]
 };
 
 // A profile as the splatting uses it (material/splat_kernel.h): cut at a support radius (a
@@ -91,6 +100,20 @@ class SupportedProfile final : public RadialProfile {
  private:
   std::shared_ptr<const RadialProfile> profile_;
   double supportMm_ = 0.0, scale_ = 1.0;
+};
+
+// B_j as a radial profile (lengths in the basis's unit), for its splat kernel table.
+class BasisFunction final : public RadialProfile {
+ public:
+  BasisFunction(const ProfileBasis& basis, int j) : basis_(basis), j_(j) {}
+  double value(double r) const override { return basis_.value(j_, r); }
+  double energyWithin(double r) const override { return basis_.energyWithin(j_, r); }
+  double totalEnergy() const override { return basis_.energyWithin(j_, basis_.reach()); }
+  double scaleHint() const override { return basis_.supportEnd(j_) - basis_.supportStart(j_); }
+
+ private:
+  const ProfileBasis& basis_;
+  int j_;
 };
 
 // A profile that owns its medium's profile.

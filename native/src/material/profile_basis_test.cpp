@@ -40,6 +40,12 @@ TEST(ProfileBasis, BSplinesSumToOneAndProjectionKeepsWhatIsInTheSpan) {
     }
     std::vector<double> c;
     for (int j = 0; j < basis.size(); ++j) c.push_back(std::exp(-0.7 * j) * (j == basis.size() - 1 ? 0.0 : 1.0));
+    for (int j = 0; j < basis.size(); ++j)  // the closed-form energies against quadrature
+      for (double r : {0.003, 0.05, 0.3, 1.0, 2.2, 4.0}) {
+        double sum = 0.0, h = r / 4000.0;
+        for (int i = 0; i < 4000; ++i) sum += 2.0 * M_PI * (i + 0.5) * h * basis.value(j, (i + 0.5) * h) * h;
+        EXPECT_NEAR(basis.energyWithin(j, r), sum, 1e-6 * (1.0 + sum)) << "degree " << degree << " j " << j << " r " << r;
+      }
     SplineProfile spline(basis, c);
     std::vector<double> back = basis.project({&spline, 1.0});
     for (int j = 0; j < basis.size(); ++j) EXPECT_NEAR(back[size_t(j)], c[size_t(j)], 1e-9) << "degree " << degree;

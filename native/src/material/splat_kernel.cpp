@@ -50,12 +50,16 @@ SplatKernel::SplatKernel(const DipoleMaterial& m)
                            makeMediumProfile(m.channels[2], m.model)},
                   m.mmPerUnit) {}
 
-SplatKernel::SplatKernel(Channels channels, double mmPerUnit) : channels_(std::move(channels)), mmPerUnit_(mmPerUnit) {
+SplatKernel::SplatKernel(Channels channels, double mmPerUnit) : SplatKernel(std::move(channels), mmPerUnit, 0.0) {}
+
+SplatKernel::SplatKernel(Channels channels, double mmPerUnit, double supportRadius)
+    : channels_(std::move(channels)), mmPerUnit_(mmPerUnit), supportRadius_(supportRadius) {
   for (int c = 0; c < 3; ++c) {
     const RadialProfile& profile = *channels_[size_t(c)];
     totalReflectance_[c] = profile.totalEnergy();
     effectiveRange_[c] = profile.radiusForEnergy(kEffectiveRangeEnergy) / mmPerUnit_;
-    supportRadius_ = std::max(supportRadius_, profile.radiusForEnergy(kSupportEnergy) / mmPerUnit_);
+    if (!(supportRadius > 0.0))
+      supportRadius_ = std::max(supportRadius_, profile.radiusForEnergy(kSupportEnergy) / mmPerUnit_);
   }
   // An empty profile (all of P zero) still gets a finite support.
   if (!(supportRadius_ > 0.0)) supportRadius_ = channels_[0]->scaleHint() / mmPerUnit_;

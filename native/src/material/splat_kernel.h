@@ -57,6 +57,9 @@ class SplatKernel {
   using Channels = std::array<std::shared_ptr<const RadialProfile>, 3>;
   explicit SplatKernel(const DipoleMaterial& material);
   SplatKernel(Channels channels, double mmPerUnit);
+  // Functions that are not profiles (MATERIAL_EDIT's basis splines, pipeline/transport_splatting.h):
+  // kept whole to `supportRadius` (scene units), not cut at kSupportEnergy.
+  SplatKernel(Channels channels, double mmPerUnit, double supportRadius);
 
   // The kernel of a homogeneous medium (either model), shared by the whole process: a new context (Blender's UI
   // makes one for each F12 render and one for each viewport) finds the tables of the dipoles it

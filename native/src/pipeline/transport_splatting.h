@@ -1,0 +1,82 @@
+// MATERIAL_EDIT (Xu et al. 2007; docs/MATERIAL_EDIT.md): per pixel, the transport T_j of each
+// spline of the edit basis (material/profile_basis.h), splatted once for a view, its lights and
+// its meshes; an edit of a homogeneous material then projects the new profile onto the basis and
+// sums c_j T_j per pixel instead of splatting again.
+//
+// The precomputation splats the samples FULL selects (splat.vert), with splat.geom's quads over
+// the basis's reach (transport_splat.geom) in two draws per splatting level, one per group of nine
+// splines (the near group reaches 0.07 R_P, the far group starts at 0.03 R_P), each into the eight RGBA32F
+// layers of a level's array (transport_splat.frag). The levels are gathered as eq. 17 gathers
+// FULL's (accumulate.frag). The combination (transport_combine.frag) is one pass over the pixels.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "gl/gl.h"
+#include "material/profile_basis.h"
+#include "pipeline/accumulation.h"
+#include "pipeline/irradiance_buffer.h"
+#include "pipeline/material_tables.h"
+#include "pipeline/sample_selection.h"
+#include "pipeline/splatting_buffer.h"
+#include "pipeline/stage_profiler.h"
+
+namespace subsplat {
+
+// What the combination reads per dense material entry (transport_combine.frag: EditCoefficients):
+// the profile's coefficients c_j per channel (rgb, in 1 / R_P^2 of the precomputed material), and
+// the ratio of the edited to the precomputed half-space incidence factor R(mu0) / R(1) (TABULATED;
+// 1 for the dipole) at mu0 = (k / 16)^2.
+struct EditCoefficients {
+  static constexpr int kSplines = 18, kCosines = 17;
+  float spline[kSplines][4] = {};
+  float incidence[kCosines][4] = {};
+};
+
+class TransportSplatting {
+ public:
+  static constexpr int kGroups = 2, kLayers = 8;
+  // The basis (editBasis(kEditIntervals, kEditDegree)) and its splines' kernel tables.
+  static const ProfileBasis& basis();
+
+  // levels: splatting levels (FULL's).
+  void resize(int width, int height, int levels);
+  void clear();
+  // Adds the selected samples of one light view to every level (each its range of distances).
+  void splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+             const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
+             StageProfiler& profiler);
+  // The samples selected per irradiance level since clear(), added; their sum (Splatting's).
+  uint64_t readSelectionCounts(uint64_t selectedPerLevel[8]);
+  // Eq. 17 on every layer, coarse to fine.
+  void accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
+                  StageProfiler& profiler);
+  // sum_j c_j T_j per pixel, with the incidence ratio at the pixel's mean incidence cosine, into
+  // exitance() (rgb; alpha: the mean incidence cosine times the rgb sum, as FULL's exitance).
+  // coefficients: one per dense material entry (opaque ones unread).
+  void combine(const SplattingBuffer& splatting, const std::vector<EditCoefficients>& coefficients);
+  GLuint exitance() const { return exitance_.id(); }
+  // Bytes of the transport's buffers (the levels' arrays and the exitance).
+  uint64_t bytes() const { return bytes_; }
+
+ private:
+  int width_ = 0, height_ = 0;
+  gl::Program splatProgram_, accumulateProgram_, combineProgram_;
+  gl::VertexArray empty_;
+  gl::Texture basisKernels_;
+  std::array<float, kGroups * 3> layerSupport_{};  // R_P units
+  std::array<float, kGroups * 2> groupRange_{};
+  float groupSplit_ = 0.0f;
+  std::vector<std::array<gl::Texture, kGroups>> levels_;
+  std::vector<std::array<gl::Framebuffer, kGroups>> framebuffers_;
+  gl::Texture exitance_;
+  gl::Framebuffer exitanceFramebuffer_;
+  gl::Buffer coefficients_, counts_;
+  size_t coefficientCapacity_ = 0;
+  uint64_t bytes_ = 0;
+  void uploadBasis();
+};
+
+}  // namespace subsplat
