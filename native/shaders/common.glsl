@@ -118,6 +118,22 @@ vec3 octDecode(vec2 e) {
   if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
   return normalize(n);
 }
+// Where light entered an irradiance texel of normal and object `no` at depth `entry` along the light
+// and left at `exit` (the exit-depth pass: depth, object, octahedral normal): the part's slab
+// thickness along its normal (the distance crossed times mu0, scene units) and the share of a slab
+// it is (slabLikeness of the two normals; 0 where the light leaves through another object, or
+// nowhere, or the exit is not beyond the entry by more than float depths resolve).
+vec2 slabGeometry(vec4 no, float entry, vec4 exit, float mu0) {
+  bool through = exit.g == no.w && exit.r - entry > 1e-5 * max(abs(entry), 1e-3);
+  if (!through) return vec2(0.0);
+  return vec2((exit.r - entry) * mu0, slabLikeness(dot(no.xyz, octDecode(exit.ba))));
+}
+// The incidence factor of a part of slab geometry g (slabGeometry: thickness along the normal in
+// scene units, share of a slab): the slab's in that share, the half-space's in the rest.
+vec3 incidenceFactorAt(int m, vec2 g, float mu0) {
+  vec3 halfSpace = incidenceFactor(m, vec3(1e30), mu0);
+  return g.y > 0.0 ? mix(halfSpace, incidenceFactor(m, g.x * materials[m].extinction.rgb, mu0), g.y) : halfSpace;
+}
 
 // The entry of a surface point of material m (its first entry) at texture
 // coordinate uv: the nearest texel of the material's profile map, repeating.

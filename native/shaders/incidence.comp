@@ -20,16 +20,12 @@ void main() {
   vec4 no = texelFetch(irradianceNormalObject, t, 0);
   float entry = texelFetch(irradianceLightDepth, t, 0).r;
   vec4 exit = texelFetch(irradianceExitDepth, t, 0);
-  // The exit must lie beyond the entry by more than float depths resolve (a back face that is
-  // itself the first surface: an open mesh seen from inside, which counts as a half-space).
-  bool through = exit.g == no.w && exit.r - entry > 1e-5 * max(abs(entry), 1e-3);
-  float mu0 = clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0);
   // The slab's thickness along its normal (the light crossed it at mu0), in the share of a slab the
-  // part is between entry and exit; the half-space in the rest (transport_model.h).
-  float slab = through ? slabLikeness(dot(no.xyz, octDecode(exit.ba))) : 0.0;
-  vec3 halfSpace = incidenceFactor(m, vec3(1e30), mu0);
-  vec3 factor = halfSpace;
-  if (slab > 0.0) factor = mix(halfSpace, incidenceFactor(m, (exit.r - entry) * mu0 * materials[m].extinction.rgb, mu0), slab);
+  // part is between entry and exit; the half-space in the rest (transport_model.h). An exit not
+  // beyond the entry (a back face that is itself the first surface: an open mesh seen from inside)
+  // counts as a half-space (common.glsl: slabGeometry).
+  float mu0 = clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0);
+  vec3 factor = incidenceFactorAt(m, slabGeometry(no, entry, exit, mu0), mu0);
   vec4 ff = imageLoad(fluxFootprint, t);
   imageStore(fluxFootprint, t, vec4(ff.rgb * factor, ff.a));
 }

@@ -11,6 +11,7 @@ in SplatSample {
   int level;
   vec4 split;
   vec4 normalMu0;
+  vec2 slab;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

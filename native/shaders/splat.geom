@@ -14,6 +14,7 @@ in SplatSample {
   int level;  // irradiance level the sample was selected at
   vec4 split; // level 0: a second profile's part (splat.vert)
   vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
+  vec2 slab;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

@@ -20,6 +20,11 @@ uniform float z0;                // depth-range threshold, scene units
 uniform float alpha;             // eq. 11's scale
 uniform int splatLevel;          // selections are counted in the pass of splatting level 0
 uniform int measureBounds;       // 1: the splatting budget's pass (splat.geom), which counts nothing
+// MATERIAL_EDIT's precomputation (transport_splat.geom): each TABULATED sample's slab geometry
+// (common.glsl: slabGeometry) from this view's light and exit depths, at the finest texel under it.
+uniform int slabGeometries;
+layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
+layout(binding = UNIT_IRRADIANCE_EXIT_DEPTH) uniform sampler2D irradianceExitDepth;
 layout(std430, binding = STORAGE_SELECTION_COUNTS) buffer SelectionCounts { uint selected[8]; };
 out SplatSample {
   vec3 position;
@@ -30,6 +35,7 @@ out SplatSample {
   int level;  // irradiance level the sample was selected at
   vec4 split; // xyz the offset of a second profile's part, w its entry * 32 + sixteenths (0: none)
   vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
+  vec2 slab;      // with slabGeometries, TABULATED: slabGeometry at the texel
 } sampleOut;
 
 bool valid(int level, ivec2 texel) {
@@ -59,6 +65,7 @@ void main() {
   sampleOut.level = level;
   sampleOut.split = vec4(0.0);
   sampleOut.normalMu0 = vec4(0.0);
+  sampleOut.slab = vec2(0.0);
   gl_Position = vec4(0.0);
   if (levels > 1) {
     for (int k = level + 1; k < levels; ++k)
@@ -76,6 +83,11 @@ void main() {
   vec4 no = texelFetch(irradianceNormalObject, texel, level);
   sampleOut.object = no.w;
   sampleOut.normalMu0 = vec4(no.xyz, clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0));
+  if (slabGeometries != 0 && pm.w >= 0.0 && isTabulated(m)) {
+    ivec2 fine = texel << level;
+    sampleOut.slab = slabGeometry(texelFetch(irradianceNormalObject, fine, 0), texelFetch(irradianceLightDepth, fine, 0).r,
+                                  texelFetch(irradianceExitDepth, fine, 0), sampleOut.normalMu0.w);
+  }
   if (profileSplits != 0) {
     vec4 split = texelFetch(irradianceProfileSplit, texel, level);
     sampleOut.split = vec4(split.xyz * ff.a, split.w);

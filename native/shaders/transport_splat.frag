@@ -2,10 +2,11 @@
 // T_j(x_o) += K_j(|x_o - x_i|) E(x_i) dA(x_i) per colour channel, for the nine splines of one group
 // (layers 0-6: spline s, channel c at component 3 s + c), K_j the spline convolved with the texel's
 // footprint (material/profile_basis.h, tabulated as splat kernels three splines a layer, in R_P
-// units: K in 1 / R_P^2). Layer 7 is splat.frag's exitance of the material as precomputed (rgb)
-// and its incidence cosine weighted by it (alpha), on this group's side of groupSplit: the
-// incidence cosine the edited image's exit factor takes. TABULATED materials weight both by
-// sideWeight, as splat.frag.
+// units: K in 1 / R_P^2). Layer 7 holds the means, weighted by splat.frag's exitance of the material
+// as precomputed (w, its rgb sum), of what the light that reached x_o met where it entered: w, w mu0,
+// w times the slab thickness and w times the slab share (common.glsl: slabGeometry), on this group's
+// side of groupSplit. The edit's incidence factors and exit factor take them. TABULATED materials
+// weight everything by sideWeight, as splat.frag.
 flat in vec2 splatRange;
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
@@ -13,6 +14,7 @@ flat in float splatFootprint;
 flat in float splatObject;
 flat in int splatMaterial;
 flat in vec4 splatNormalMu0;
+flat in vec2 splatSlab;
 uniform int splatLevel;
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
@@ -56,5 +58,6 @@ void main() {
   if (mine && d < footprintReach * splatFootprint + support)
     b = flux * kernelLookup(splatKernels, kernelTableSize, kernelLog2Range, footprintReach, materials[m].optics.w,
                             support, d, splatFootprint);
-  transport[7] = vec4(b, (b.r + b.g + b.b) * splatNormalMu0.w);
+  float w = b.r + b.g + b.b;
+  transport[7] = w * vec4(1.0, splatNormalMu0.w, splatSlab);
 }

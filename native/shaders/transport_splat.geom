@@ -15,6 +15,7 @@ in SplatSample {
   int level;
   vec4 split;
   vec4 normalMu0;
+  vec2 slab;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
@@ -33,6 +34,7 @@ flat out float splatFootprint;
 flat out float splatObject;
 flat out int splatMaterial;
 flat out vec4 splatNormalMu0;
+flat out vec2 splatSlab;
 
 // The first knot (scene units) from which every gap is at least knotPixels pixels of `pixel`.
 float smoothFrom(float pixel, float ell) {
@@ -73,6 +75,7 @@ void main() {
     splatObject = sampleIn[0].object;
     splatMaterial = m;
     splatNormalMu0 = sampleIn[0].normalMu0;
+    splatSlab = sampleIn[0].slab;
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 0.0, 1.0);
     EmitVertex();
   }

@@ -95,10 +95,10 @@ void Renderer::setSettings(const SsSettings& s) {
   if (settings_.filter_width == 0.0f) settings_.filter_width = kDefaultFilterWidth;
 }
 
-void Renderer::uploadMaterials() {
+void Renderer::uploadMaterials(bool kernelTables) {
   scene_.resolveMaterials();
   gpuScene_.update(scene_);
-  materialTables_.update(scene_, settings_.epsilon);
+  materialTables_.update(scene_, settings_.epsilon, kernelTables);
 }
 
 EnvironmentInputs Renderer::uploadEnvironment() {
@@ -180,16 +180,17 @@ void Renderer::render(int width, int height, float* rgba) {
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 
-  uploadMaterials();
-  const EnvironmentInputs environment = uploadEnvironment();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
-  bindTexture(gl::UNIT_TEXTURE_TEXELS, GL_TEXTURE_BUFFER, materialTables_.textureTexels());
   // MATERIAL_EDIT (docs/MATERIAL_EDIT.md) selects and splats as FULL; a scene with a heterogeneous
   // material is FULL's. A render that reuses the transport splats nothing, at the precomputation's
-  // resolution and levels (its direct light as the precomputation's).
+  // resolution and levels (its direct light as the precomputation's), and needs no splat kernels.
+  scene_.resolveMaterials();
   bool editing = settings_.method == SS_METHOD_MATERIAL_EDIT && !scene_.heterogeneous();
   bool reuse = editing && transportServes(width, height);
   if (editing && !reuse) precomputed_.valid = false;
+  uploadMaterials(!reuse);
+  const EnvironmentInputs environment = uploadEnvironment();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_MATERIALS, materialTables_.materials());
+  bindTexture(gl::UNIT_TEXTURE_TEXELS, GL_TEXTURE_BUFFER, materialTables_.textureTexels());
   bool adaptive = settings_.method == SS_METHOD_ADAPTIVE || settings_.method == SS_METHOD_FULL ||
                   settings_.method == SS_METHOD_MATERIAL_EDIT;
   bool multires = settings_.method == SS_METHOD_MULTIRES || settings_.method == SS_METHOD_FULL ||
@@ -369,9 +370,10 @@ void Renderer::render(int width, int height, float* rgba) {
       transport_.accumulate(scene_, splatting_, accumulation, profiler);
       stats_.splat_count = transport_.readSelectionCounts(stats_.selected_per_level);
       recordPrecomputation(width, height, resolution, levels, splatLevels, camera);
+      transport_.storeFactors(splatting_, kernels.transport);
     }
     profiler.begin(SS_STAGE_SHADING);
-    transport_.combine(splatting_, editCoefficients());
+    transport_.combine(splatting_, editCoefficients(), kernels.transport);
     profiler.end();
   } else if (!translucent.empty()) {  // (one level: only keeps the debug copy)
     splats_.accumulate(scene_, splatting_, accumulation, profiler, budgeted);
@@ -479,7 +481,6 @@ void Renderer::recordPrecomputation(int width, int height, int resolution, int l
       e.mmPerUnit = m.kernel->mmPerUnit();
       DipoleMaterial medium = dipoleMaterial(m.desc);
       for (int c = 0; c < 3; ++c) e.eta[size_t(c)] = medium.channels[size_t(c)].eta;
-      e.transport = m.transport;
     }
     p.entries.push_back(e);
   }
@@ -522,12 +523,6 @@ std::vector<EditCoefficients> Renderer::editCoefficients() const {
       SupportedProfile cut(channel, kernel.supportRadius() * kernel.mmPerUnit());
       std::vector<double> coefficients = basis.project({&cut, e.range * e.mmPerUnit});
       for (int j = 0; j < EditCoefficients::kSplines; ++j) result[i].spline[j][c] = float(coefficients[size_t(j)]);
-      for (int k = 0; k < EditCoefficients::kCosines; ++k) {
-        double mu0 = std::pow(double(k) / (EditCoefficients::kCosines - 1), 2.0);
-        double edited = m.transport ? m.transport->incidence(c, HUGE_VAL, mu0) : 1.0;
-        double before = e.transport ? e.transport->incidence(c, HUGE_VAL, mu0) : 1.0;
-        result[i].incidence[k][c] = before > 0.0 ? float(edited / before) : 1.0f;
-      }
     }
   }
   return result;

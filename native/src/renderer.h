@@ -54,8 +54,9 @@ class Renderer {
   void readPass(int pass, int width, int height, float* rgba);
 
  private:
-  // Resolves the scene's materials and brings the GPU's copy and the tables up to date.
-  void uploadMaterials();
+  // Resolves the scene's materials and brings the GPU's copy and the tables up to date (without
+  // kernelTables: all but the splat kernels and R-bar, for a render that splats nothing).
+  void uploadMaterials(bool kernelTables = true);
   // The environment's map, uploaded when it changed; the inputs of the final shading.
   EnvironmentInputs uploadEnvironment();
   // Coverage figures of the frame for SsStats (tests and the UI read them): non-finite
@@ -113,7 +114,6 @@ class Renderer {
       bool translucent = false;
       double range = 0.0, mmPerUnit = 1.0;  // R_P (the longest channel's), scene units
       std::array<double, 3> eta{};
-      std::shared_ptr<const TransportTables> transport;  // TABULATED
     };
     std::vector<Entry> entries;
   };

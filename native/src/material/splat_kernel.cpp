@@ -69,15 +69,22 @@ SplatKernel::SplatKernel(Channels channels, double mmPerUnit, double supportRadi
   }
 
   ++kernelsBuilt;
-  table_.assign(size_t(kSizeA) * kSizeD * 4, 0.0f);
-  for (int ia = 0; ia < kSizeA; ++ia) {
-    double sigma = tableSigma(ia, supportRadius_);
-    for (int id = 0; id < kSizeD; ++id) {
-      double d = tableDistance(id, sigma, supportRadius_);
-      float* texel = &table_[(size_t(ia) * kSizeD + id) * 4];
-      for (int c = 0; c < 3; ++c) texel[c] = float(footprintAverage(c, d, sigma));
+}
+
+const std::vector<float>& SplatKernel::table() const {
+  std::call_once(tableBuilt_, [this] {
+    std::vector<float> table(size_t(kSizeA) * kSizeD * 4, 0.0f);
+    for (int ia = 0; ia < kSizeA; ++ia) {
+      double sigma = tableSigma(ia, supportRadius_);
+      for (int id = 0; id < kSizeD; ++id) {
+        double d = tableDistance(id, sigma, supportRadius_);
+        float* texel = &table[(size_t(ia) * kSizeD + id) * 4];
+        for (int c = 0; c < 3; ++c) texel[c] = float(footprintAverage(c, d, sigma));
+      }
     }
-  }
+    table_ = std::move(table);
+  });
+  return table_;
 }
 
 double SplatKernel::tableSigma(int ia, double supportRadius) {

@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -98,8 +99,9 @@ class SplatKernel {
   const RadialProfile& channel(int c) const { return *channels_[size_t(c)]; }
   double mmPerUnit() const { return mmPerUnit_; }
 
-  // kSizeA rows of kSizeD RGBA texels (alpha unused), row-major.
-  const std::vector<float>& table() const { return table_; }
+  // kSizeA rows of kSizeD RGBA texels (alpha unused), row-major. Made on the first call (0.1-0.3 s,
+  // thread-safe): a material that is only projected (MATERIAL_EDIT's edits) never needs it.
+  const std::vector<float>& table() const;
   static double tableSigma(int ia, double supportRadius);
   static double tableDistance(int id, double sigma, double supportRadius);
 
@@ -107,7 +109,8 @@ class SplatKernel {
   Channels channels_;
   std::array<double, 3> normalisation_{}, effectiveRange_{}, totalReflectance_{};
   double mmPerUnit_ = 1.0, supportRadius_ = 0.0;
-  std::vector<float> table_;
+  mutable std::once_flag tableBuilt_;
+  mutable std::vector<float> table_;
 };
 
 }  // namespace subsplat

@@ -44,8 +44,10 @@ std::map<const TextureImage*, uint32_t> MaterialTables::uploadImages(const std::
   return offsets;
 }
 
-void MaterialTables::update(const Scene& scene, float epsilon) {
-  if (uploadedMaterialVersion_ == scene.materialVersion() && materialBuffer_ && uploadedEpsilon_ == epsilon) return;
+void MaterialTables::update(const Scene& scene, float epsilon, bool kernelTables) {
+  if (uploadedMaterialVersion_ == scene.materialVersion() && materialBuffer_ && uploadedEpsilon_ == epsilon &&
+      (kernelTablesUploaded_ || !kernelTables))
+    return;
   const auto& materials = scene.denseMaterials();
   std::vector<MaterialGpu> gpu(std::max<size_t>(materials.size(), 1), MaterialGpu{});
   int layers = 0, transportLayers = 0;
@@ -101,12 +103,14 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     }
   }
   materialBuffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, gpu.size() * sizeof(MaterialGpu), gpu.data());
-  kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
-                                        std::max(layers, 1), GL_LINEAR);
-  for (size_t i = 0; i < materials.size(); ++i) {
-    if (!materials[i].kernel) continue;
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].optics[3]), SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
-                    GL_RGBA, GL_FLOAT, materials[i].kernel->table().data());
+  if (kernelTables) {
+    kernelTable_ = gl::makeTexture2DArray(GL_RGBA32F, SplatKernel::kSizeD, SplatKernel::kSizeA,
+                                          std::max(layers, 1), GL_LINEAR);
+    for (size_t i = 0; i < materials.size(); ++i) {
+      if (!materials[i].kernel) continue;
+      glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].optics[3]), SplatKernel::kSizeD, SplatKernel::kSizeA, 1,
+                      GL_RGBA, GL_FLOAT, materials[i].kernel->table().data());
+    }
   }
   transport_ = gl::makeTexture2DArray(GL_RGBA32F, TransportTables::kWidth, TransportTables::height(),
                                       std::max(transportLayers, 1), GL_NEAREST);
@@ -115,33 +119,36 @@ void MaterialTables::update(const Scene& scene, float epsilon) {
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, int(gpu[i].medium[3]), TransportTables::kWidth,
                     TransportTables::height(), 1, GL_RGBA, GL_FLOAT, materials[i].transport->texels().data());
   }
-  // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change:
-  // over the mean normalised profile of the material's entries (eq. 15, 16),
-  // weighted by how many texels of its map have each.
-  std::vector<float> radii(size_t(SplatKernel::kRadiusTableSize) * std::max(layers, 1), 0.0f);
-  for (size_t first = 0; first < materials.size();) {
-    size_t end = first + 1;
-    while (end < materials.size() && materials[end].base == materials[first].base) ++end;
-    if (materials[first].kernel) {
-      std::vector<std::pair<const SplatKernel*, double>> kernels;
-      for (size_t i = first; i < end; ++i) {
-        const MaterialEntry& e = materials[i];
-        double weight = e.mapped() ? double(e.profiles->texelCounts()[i - first]) : 1.0;
-        kernels.emplace_back(e.kernel.get(), weight);
+  if (kernelTables) {
+    // Eq. 14's R-bar per layer, rebuilt only when materials or epsilon change:
+    // over the mean normalised profile of the material's entries (eq. 15, 16),
+    // weighted by how many texels of its map have each.
+    std::vector<float> radii(size_t(SplatKernel::kRadiusTableSize) * std::max(layers, 1), 0.0f);
+    for (size_t first = 0; first < materials.size();) {
+      size_t end = first + 1;
+      while (end < materials.size() && materials[end].base == materials[first].base) ++end;
+      if (materials[first].kernel) {
+        std::vector<std::pair<const SplatKernel*, double>> kernels;
+        for (size_t i = first; i < end; ++i) {
+          const MaterialEntry& e = materials[i];
+          double weight = e.mapped() ? double(e.profiles->texelCounts()[i - first]) : 1.0;
+          kernels.emplace_back(e.kernel.get(), weight);
+        }
+        std::vector<float> row = SplatKernel::minimalRadiusTable(kernels, epsilon);
+        for (size_t i = first; i < end; ++i)
+          std::copy(row.begin(), row.end(), radii.begin() + size_t(gpu[i].optics[3]) * SplatKernel::kRadiusTableSize);
       }
-      std::vector<float> row = SplatKernel::minimalRadiusTable(kernels, epsilon);
-      for (size_t i = first; i < end; ++i)
-        std::copy(row.begin(), row.end(), radii.begin() + size_t(gpu[i].optics[3]) * SplatKernel::kRadiusTableSize);
+      first = end;
     }
-    first = end;
+    minimalRadius_ = gl::makeTexture2D(GL_R32F, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_LINEAR);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_RED, GL_FLOAT,
+                    radii.data());
   }
-  minimalRadius_ = gl::makeTexture2D(GL_R32F, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_LINEAR);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SplatKernel::kRadiusTableSize, std::max(layers, 1), GL_RED, GL_FLOAT,
-                  radii.data());
   kernelLayers_ = std::max(layers, 1);
   gl::checkErrors("material upload");
   uploadedMaterialVersion_ = scene.materialVersion();
   uploadedEpsilon_ = epsilon;
+  kernelTablesUploaded_ = kernelTables;
 }
 
 }  // namespace subsplat

@@ -39,8 +39,10 @@ struct KernelTables {
 class MaterialTables {
  public:
   // Packs the scene's dense material entries (resolved) into the tables, again
-  // only when the materials or epsilon (eq. 14) changed since the last call.
-  void update(const Scene& scene, float epsilon);
+  // only when the materials or epsilon (eq. 14) changed since the last call. Without
+  // kernelTables, the splat kernels and R-bar are left as they were (a render that splats
+  // nothing: MATERIAL_EDIT's edits), and the next call with them packs them.
+  void update(const Scene& scene, float epsilon, bool kernelTables = true);
   // Shader storage: one MaterialGpu per dense entry.
   GLuint materials() const { return materialBuffer_.id(); }
   KernelTables kernels() const { return {kernelTable_.id(), minimalRadius_.id(), kernelLayers_, transport_.id()}; }
@@ -58,6 +60,7 @@ class MaterialTables {
   gl::Texture kernelTable_, minimalRadius_, transport_, textureTexels_;
   int kernelLayers_ = 1;
   float uploadedEpsilon_ = -1.0f;
+  bool kernelTablesUploaded_ = false;
   uint64_t uploadedMaterialVersion_ = ~0ull;
 };
 

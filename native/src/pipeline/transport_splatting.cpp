@@ -91,6 +91,8 @@ void TransportSplatting::resize(int width, int height, int levels) {
   framebuffers_.clear();
   exitanceFramebuffer_ = gl::Framebuffer();
   exitance_ = gl::Texture();
+  factorsFramebuffer_ = gl::Framebuffer();
+  factors_ = gl::Texture();
   bytes_ = 0;
   for (int k = 0; k < levels; ++k) {
     int w = std::max(width >> k, 1), h = std::max(height >> k, 1);
@@ -106,7 +108,9 @@ void TransportSplatting::resize(int width, int height, int levels) {
   }
   exitance_ = gl::makeTexture2D(GL_RGBA32F, width, height);
   exitanceFramebuffer_ = gl::makeFramebuffer({exitance_.id()}, 0);
-  bytes_ += uint64_t(width) * uint64_t(height) * 16u;
+  factors_ = gl::makeTexture2D(GL_RGBA32F, width, height);
+  factorsFramebuffer_ = gl::makeFramebuffer({factors_.id()}, 0);
+  bytes_ += uint64_t(width) * uint64_t(height) * 32u;
   width_ = width;
   height_ = height;
 }
@@ -148,6 +152,9 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   glUniform1i(uniform(p, "measureBounds"), 0);
+  glUniform1i(uniform(p, "slabGeometries"), 1);
+  bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
+  if (irradiance.exitDepth()) bindTexture(gl::UNIT_IRRADIANCE_EXIT_DEPTH, GL_TEXTURE_2D, irradiance.exitDepth());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SELECTION_COUNTS, counts_.id());  // zeroed by clear()
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
@@ -217,7 +224,13 @@ void TransportSplatting::accumulate(const Scene& scene, const SplattingBuffer& s
   gl::checkErrors("transport accumulation");
 }
 
-void TransportSplatting::combine(const SplattingBuffer& splatting, const std::vector<EditCoefficients>& coefficients) {
+void TransportSplatting::storeFactors(const SplattingBuffer& splatting, GLuint transportTables) {
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  drawCombination(factorsFramebuffer_.id(), true, transportTables);
+}
+
+void TransportSplatting::combine(const SplattingBuffer& splatting, const std::vector<EditCoefficients>& coefficients,
+                                 GLuint transportTables) {
   size_t bytes = std::max<size_t>(coefficients.size(), 1) * sizeof(EditCoefficients);
   if (bytes > coefficientCapacity_) {
     coefficients_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, bytes, nullptr, GL_DYNAMIC_DRAW);
@@ -228,13 +241,20 @@ void TransportSplatting::combine(const SplattingBuffer& splatting, const std::ve
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, coefficients.size() * sizeof(EditCoefficients), coefficients.data());
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   }
-  GLuint p = combineProgram_.id();
-  glUseProgram(p);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_EDIT_COEFFICIENTS, coefficients_.id());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_EDIT_FACTORS, GL_TEXTURE_2D, factors_.id());
+  drawCombination(exitanceFramebuffer_.id(), false, transportTables);
+}
+
+void TransportSplatting::drawCombination(GLuint framebuffer, bool storeFactors, GLuint transportTables) {
+  GLuint p = combineProgram_.id();
+  glUseProgram(p);
+  glUniform1i(uniform(p, "storeFactors"), storeFactors ? 1 : 0);
+  setTransportUniforms(p, transportTables);
   bindTexture(gl::UNIT_NEAR_TRANSPORT, GL_TEXTURE_2D_ARRAY, levels_.at(0)[0].id());
   bindTexture(gl::UNIT_FAR_TRANSPORT, GL_TEXTURE_2D_ARRAY, levels_.at(0)[1].id());
-  glBindFramebuffer(GL_FRAMEBUFFER, exitanceFramebuffer_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width_, height_);
   glDisable(GL_BLEND);
   glBindVertexArray(empty_.id());

@@ -26,13 +26,10 @@
 namespace subsplat {
 
 // What the combination reads per dense material entry (transport_combine.frag: EditCoefficients):
-// the profile's coefficients c_j per channel (rgb, in 1 / R_P^2 of the precomputed material), and
-// the ratio of the edited to the precomputed half-space incidence factor R(mu0) / R(1) (TABULATED;
-// 1 for the dipole) at mu0 = (k / 16)^2.
+// the profile's coefficients c_j per channel (rgb, in 1 / R_P^2 of the precomputed material).
 struct EditCoefficients {
-  static constexpr int kSplines = 18, kCosines = 17;
+  static constexpr int kSplines = 18;
   float spline[kSplines][4] = {};
-  float incidence[kCosines][4] = {};
 };
 
 class TransportSplatting {
@@ -53,10 +50,14 @@ class TransportSplatting {
   // Eq. 17 on every layer, coarse to fine.
   void accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
                   StageProfiler& profiler);
-  // sum_j c_j T_j per pixel, with the incidence ratio at the pixel's mean incidence cosine, into
+  // The precomputed materials' incidence factors per pixel, at the means of what each pixel's light
+  // met where it entered (after accumulate(), while those materials are the scene's).
+  void storeFactors(const SplattingBuffer& splatting, GLuint transportTables);
+  // sum_j c_j T_j per pixel, times the edited over the precomputed incidence factor, into
   // exitance() (rgb; alpha: the mean incidence cosine times the rgb sum, as FULL's exitance).
   // coefficients: one per dense material entry (opaque ones unread).
-  void combine(const SplattingBuffer& splatting, const std::vector<EditCoefficients>& coefficients);
+  void combine(const SplattingBuffer& splatting, const std::vector<EditCoefficients>& coefficients,
+               GLuint transportTables);
   GLuint exitance() const { return exitance_.id(); }
   // Bytes of the transport's buffers (the levels' arrays and the exitance).
   uint64_t bytes() const { return bytes_; }
@@ -71,8 +72,10 @@ class TransportSplatting {
   float groupSplit_ = 0.0f;
   std::vector<std::array<gl::Texture, kGroups>> levels_;
   std::vector<std::array<gl::Framebuffer, kGroups>> framebuffers_;
-  gl::Texture exitance_;
-  gl::Framebuffer exitanceFramebuffer_;
+  gl::Texture exitance_, factors_;
+  gl::Framebuffer exitanceFramebuffer_, factorsFramebuffer_;
+  // One pass of transport_combine.frag into `framebuffer`.
+  void drawCombination(GLuint framebuffer, bool storeFactors, GLuint transportTables);
   gl::Buffer coefficients_, counts_;
   size_t coefficientCapacity_ = 0;
   uint64_t bytes_ = 0;
