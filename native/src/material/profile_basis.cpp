@@ -331,17 +331,23 @@ std::vector<OwnedProfile> randomMediaFamily(uint64_t seed, int count) {
   return family;
 }
 
+std::vector<double> fitEditKnots(int intervals, int degree) {
+  std::vector<OwnedProfile> family = randomMediaFamily(kCalibrationSeed, kCalibrationMedia);
+  std::vector<ScaledProfile> views;
+  for (const OwnedProfile& p : family) views.push_back(p.view());
+  return ProfileBasis::fitted(views, kEditReach, intervals, degree).knots();
+}
+
 const ProfileBasis& editBasis(int intervals, int degree) {
   static std::mutex mutex;
   static std::map<std::pair<int, int>, ProfileBasis> built;
   std::lock_guard<std::mutex> lock(mutex);
   auto found = built.find({intervals, degree});
   if (found != built.end()) return found->second;
-  std::vector<OwnedProfile> family = randomMediaFamily(kCalibrationSeed, kCalibrationMedia);
-  std::vector<ScaledProfile> views;
-  for (const OwnedProfile& p : family) views.push_back(p.view());
-  return built.emplace(std::make_pair(intervals, degree), ProfileBasis::fitted(views, kEditReach, intervals, degree))
-      .first->second;
+  std::vector<double> knots = intervals == kEditIntervals && degree == kEditDegree
+                                  ? std::vector<double>(std::begin(kEditKnots), std::end(kEditKnots))
+                                  : fitEditKnots(intervals, degree);
+  return built.emplace(std::make_pair(intervals, degree), ProfileBasis(std::move(knots), degree)).first->second;
 }
 
 }  // namespace subsplat

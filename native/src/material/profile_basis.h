@@ -136,10 +136,18 @@ std::vector<OwnedProfile> randomMediaFamily(uint64_t seed, int count);
 // The basis of `intervals` intervals and `degree` for editing: knots fitted on kCalibrationMedia
 // media of kCalibrationSeed (0.6 s). Built once per (intervals, degree) and kept.
 constexpr int kCalibrationMedia = 48;
+std::vector<double> fitEditKnots(int intervals, int degree);
 // The basis MATERIAL_EDIT uses: piecewise quadratic on 16 fitted intervals (18 coefficients), the
 // fewest coefficients whose error on the calibration media (ProfileBasis::Error::cumulative) is
 // below 0.25 % on average and 1 % at most (subsplat_basis; docs/MATERIAL_EDIT.md, "The basis").
+// Its knots are fitEditKnots(16, 2) as written here, so that no render fits them
+// (ProfileBasis.TheEditKnotsAreTheFitOnTheCalibrationMedia checks them); editBasis returns them.
 constexpr int kEditIntervals = 16, kEditDegree = 2;
+constexpr double kEditKnots[kEditIntervals + 1] = {
+    0, 0.00015084488197696783, 0.00085402730468507766, 0.0026643385163236631, 0.0056885446046613473,
+    0.010323446161672295, 0.01774674932391445, 0.028899046961270259, 0.047059599480807422, 0.072591123945572919,
+    0.11197441826572721, 0.18234065928691481, 0.29692599920711743, 0.48351831867853728, 0.83120290072966907,
+    1.6810839550558765, 4};
 const ProfileBasis& editBasis(int intervals, int degree);
 
 }  // namespace subsplat

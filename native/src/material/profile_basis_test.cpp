@@ -53,6 +53,13 @@ TEST(ProfileBasis, BSplinesSumToOneAndProjectionKeepsWhatIsInTheSpan) {
   }
 }
 
+// The knots MATERIAL_EDIT uses are written in the code (no render fits them): they are the fit.
+TEST(ProfileBasis, TheEditKnotsAreTheFitOnTheCalibrationMedia) {
+  std::vector<double> fit = fitEditKnots(kEditIntervals, kEditDegree);
+  ASSERT_EQ(fit.size(), std::size(kEditKnots));
+  for (size_t k = 0; k < fit.size(); ++k) EXPECT_NEAR(fit[k], kEditKnots[k], 1e-12 * (1.0 + fit[k])) << "knot " << k;
+}
+
 // The energy test: the projection of every preset's profile, as precomputed and after an
 // edit (sigma_a x 2, sigma_s' x 0.5), under both profile models, keeps its total within 0.5 %.
 // An edit whose support passes the basis's reach is not projected but precomputed again; a

@@ -6,6 +6,21 @@
 
 namespace subsplat {
 
+void beginAccumulation(GLuint p, const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
+                       int transportLayers) {
+  glUseProgram(p);
+  setCameraUniforms(p, scene.camera());
+  glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
+  glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
+  glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
+  glUniform1i(uniform(p, "transportLayers"), transportLayers);
+  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+}
+
 void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting, const Accumulation& weights,
                            StageProfiler& profiler, bool keepLevels) {
   int levels = int(exitance_.size());
@@ -34,16 +49,7 @@ void Splatting::accumulate(const Scene& scene, const SplattingBuffer& splatting,
   }
   if (!accumulateProgram_) accumulateProgram_ = gl::makeProgram("fullscreen.vert", "", "accumulate.frag");
   GLuint p = accumulateProgram_.id();
-  glUseProgram(p);
-  setCameraUniforms(p, scene.camera());
-  glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
-  glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
-  glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
+  beginAccumulation(p, scene, splatting, weights, 0);
   glBindVertexArray(empty_.id());
   for (int k = levels - 2; k >= 0; --k) {  // coarse to fine: level k += upsampled level k + 1
     glBindFramebuffer(GL_FRAMEBUFFER, targetFramebuffers[size_t(k)].id());

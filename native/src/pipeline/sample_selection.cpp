@@ -4,6 +4,32 @@
 
 namespace subsplat {
 
+void SelectionCounts::clear() {
+  if (!buffer_) buffer_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
+  const GLuint zeros[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer_.id());
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+}
+
+void SelectionCounts::bind() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SELECTION_COUNTS, buffer_.id());
+}
+
+uint64_t SelectionCounts::read(uint64_t selectedPerLevel[8]) {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  GLuint counts[8] = {};
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer_.id());
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  uint64_t selected = 0;
+  for (int k = 0; k < 8; ++k) {
+    selectedPerLevel[k] += counts[k];
+    selected += counts[k];
+  }
+  return selected;
+}
+
 void setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                           const SplattingBuffer& splatting, const Selection& selection, GLint offsets[9]) {
   int res = irradiance.resolution();

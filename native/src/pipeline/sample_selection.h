@@ -19,6 +19,19 @@ struct Selection {
   float alpha = 15.0f;
 };
 
+// The samples splat.vert selects per irradiance level (STORAGE_SELECTION_COUNTS), summed over a
+// frame's light views; read back once a frame.
+class SelectionCounts {
+ public:
+  void clear();       // zeroes them (the buffer is made on first use)
+  void bind() const;  // at STORAGE_SELECTION_COUNTS
+  // Adds them to selectedPerLevel; returns their sum.
+  uint64_t read(uint64_t selectedPerLevel[8]);
+
+ private:
+  gl::Buffer buffer_;
+};
+
 // The selection's uniforms and the irradiance and splatting buffers it reads;
 // offsets: where each irradiance level's samples start (9 entries).
 void setSelectionUniforms(GLuint program, const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,

@@ -55,26 +55,10 @@ void Splatting::clear() {
     glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
     glClearBufferfv(GL_COLOR, 0, zero);
   }
-  if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
-  const GLuint zeros[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  counts_.clear();
 }
 
-uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  GLuint counts[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-  uint64_t selected = 0;
-  for (int k = 0; k < 8; ++k) {
-    selectedPerLevel[k] += counts[k];
-    selected += counts[k];
-  }
-  return selected;
-}
+uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) { return counts_.read(selectedPerLevel); }
 
 bool Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
@@ -87,7 +71,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   int levels = selection.levels;
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SELECTION_COUNTS, counts_.id());  // zeroed by clear(), summed over views
+  counts_.bind();  // zeroed by clear(), summed over views
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));

@@ -94,7 +94,7 @@ class Splatting {
   GLint lastSampleCount_ = 0;
   gl::Buffer bounds_;  // SplatBounds (splat.geom), one uint per sample
   size_t boundsCapacity_ = 0;
-  gl::Buffer counts_;  // SelectionCounts (splat.vert)
+  SelectionCounts counts_;
 };
 
 }  // namespace subsplat

@@ -122,22 +122,11 @@ void TransportSplatting::clear() {
       glBindFramebuffer(GL_FRAMEBUFFER, f.id());
       for (int l = 0; l < kLayers; ++l) glClearBufferfv(GL_COLOR, l, zero);
     }
-  if (!counts_) counts_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, 8 * sizeof(GLuint), nullptr, GL_DYNAMIC_READ);
-  const GLuint zeros[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zeros, zeros);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  counts_.clear();
 }
 
 uint64_t TransportSplatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  GLuint counts[8] = {};
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, counts_.id());
-  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counts, counts);
-  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-  uint64_t selected = 0;
-  for (int k = 0; k < 8; ++k) selectedPerLevel[k] += counts[k], selected += counts[k];
-  return selected;
+  return counts_.read(selectedPerLevel);
 }
 
 void TransportSplatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
@@ -155,7 +144,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   glUniform1i(uniform(p, "slabGeometries"), 1);
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
   if (irradiance.exitDepth()) bindTexture(gl::UNIT_IRRADIANCE_EXIT_DEPTH, GL_TEXTURE_2D, irradiance.exitDepth());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SELECTION_COUNTS, counts_.id());  // zeroed by clear()
+  counts_.bind();  // zeroed by clear()
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -197,17 +186,7 @@ void TransportSplatting::accumulate(const Scene& scene, const SplattingBuffer& s
   if (levels <= 1) return;
   profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kAccumulation);
   GLuint p = accumulateProgram_.id();
-  glUseProgram(p);
-  setCameraUniforms(p, scene.camera());
-  glUniform1f(uniform(p, "lambdaZ"), weights.lambdaZ);
-  glUniform1f(uniform(p, "lambdaM"), weights.lambdaM);
-  glUniform1f(uniform(p, "boundingDiameter"), std::max(weights.boundingDiameter, 1e-12f));
-  glUniform1i(uniform(p, "transportLayers"), kLayers);
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
-  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
+  beginAccumulation(p, scene, splatting, weights, kLayers);
   glBindVertexArray(empty_.id());
   for (int g = 0; g < kGroups; ++g)
     for (int k = levels - 2; k >= 0; --k) {

@@ -76,7 +76,8 @@ class TransportSplatting {
   gl::Framebuffer exitanceFramebuffer_, factorsFramebuffer_;
   // One pass of transport_combine.frag into `framebuffer`.
   void drawCombination(GLuint framebuffer, bool storeFactors, GLuint transportTables);
-  gl::Buffer coefficients_, counts_;
+  gl::Buffer coefficients_;
+  SelectionCounts counts_;
   size_t coefficientCapacity_ = 0;
   uint64_t bytes_ = 0;
   void uploadBasis();
