@@ -9,6 +9,7 @@ cd "$(dirname "$0")/.."
 build=${1:-build}
 out=bench/results/material_edit
 mkdir -p "$out"
+cmake --build "$build" -j"$(nproc)" --target subsplat_material_edit > /dev/null
 tool="$build/native/subsplat_material_edit"
 "$tool" --set calibration --count 8 --size 120x90 --resolution 256 > "$out/calibration_256.json"
 "$tool" --set test --count 8 --size 120x90 --resolution 256 > "$out/test_256.json"

@@ -3,7 +3,7 @@ paper's Figures 1 and 2 on our profiles).
 
     python3 bench/material_edit_basis.py [--tool build/native/subsplat_basis]
 
-Runs subsplat_basis (about 25 s on 2 cores), saves its results to
+Builds and runs subsplat_basis (about 15 s on 2 cores), saves its results to
 bench/results/material_edit_basis.json, draws docs/images/material_edit_basis.png and prints the
 Markdown table of docs/MATERIAL_EDIT.md. The knots are fitted on the calibration media
 (kCalibrationSeed); the presets (as precomputed and edited) and the test media (kEditTestSeed) are
@@ -23,6 +23,8 @@ def main():
     parser.add_argument("--results", default=os.path.join(ROOT, "bench", "results", "material_edit_basis.json"))
     parser.add_argument("--image", default=os.path.join(ROOT, "docs", "images", "material_edit_basis.png"))
     args = parser.parse_args()
+    build = os.path.dirname(os.path.dirname(args.tool))
+    subprocess.run(["cmake", "--build", build, "--target", "subsplat_basis"], check=True, capture_output=True)
     out = subprocess.run([args.tool, "--intervals", "2,3,4,6,8,12,16,24,32,48"], check=True,
                          capture_output=True, text=True).stdout
     data = json.loads(out)
