@@ -97,11 +97,14 @@ def sweep(kind):
 
 
 def auto_sweep(chosen):
-    """What the AUTO test compares AUTO with, from the resolution it chose: BRUTE and FULL at that
-    resolution and at every rung up to 1.5 times it (the points that can be as fast as AUTO, which
-    set the front at its time), and BRUTE at twice it, up to 1024² (the finest point)."""
-    resolutions = sorted({r for r in RUNGS if r <= 1.5 * chosen} | {chosen})
+    """What the AUTO test compares AUTO with, from the resolution it chose: FULL at that resolution
+    and at every rung below it, BRUTE at the rungs below it (the points that can cost no more
+    fragments than AUTO, FULL at its resolution, and so set the front at its cost), and BRUTE at
+    twice it, up to 1024² (the finest point). A point at a finer resolution than AUTO's, or BRUTE at
+    AUTO's, splats more than AUTO and cannot be on the front at its cost."""
+    resolutions = sorted({r for r in RUNGS if r < chosen})
     points = [(m, r, 15.0, 0, 0.001, None) for r in resolutions for m in ("BRUTE", "FULL")]
+    points.append(("FULL", chosen, 15.0, 0, 0.001, None))
     finest = min(2 * chosen, 1024)
     if finest not in resolutions:
         points.append(("BRUTE", finest, 15.0, 0, 0.001, None))

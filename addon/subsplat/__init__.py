@@ -27,7 +27,8 @@ import bpy  # noqa: E402,F401
 
 from . import (version, diagnostics, native, presets, properties, preferences, principled, artist,  # noqa: E402,F401
                export, engine, twin, operators, ui)
-from .diagnostics import last_render_error, last_render_passes, last_render_stats, last_viewport  # noqa: E402,F401
+from .diagnostics import (last_render_error, last_render_passes, last_render_stats, last_viewport,  # noqa: E402,F401
+                          last_viewport_first_sample)
 
 
 def register():

@@ -38,6 +38,14 @@ def last_viewport():
     return {**_last_viewport.counters.as_dict(), "stats": dict(_last_viewport.stats), "error": _last_viewport.error}
 
 
+def last_viewport_first_sample():
+    """The first anti-aliasing sample's image of the most recently updated viewport, float32 (height,
+    width, 4), bottom row first, or None before one (tests compare a fast material edit with Full)."""
+    if _last_viewport is None or _last_viewport.first_sample is None:
+        return None
+    return _last_viewport.first_sample.copy()
+
+
 def last_render_passes():
     """With keep_passes set: {"Combined": ..., "SubSplat Exitance": ...} of the last render, as
     float32 arrays (height, width, 4), bottom row first. Used by tests and bench/accuracy.py."""

@@ -15,6 +15,7 @@ API_VERSION = 20  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
+SS_GL_ERROR = 4
 SS_CANCELLED = 7
 SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL, SS_METHOD_REFERENCE = 0, 1, 2, 3, 4
 SS_METHOD_MATERIAL_EDIT = 5

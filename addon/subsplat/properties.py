@@ -86,6 +86,12 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Viewport Samples", default=8, min=1, max=1024, soft_max=64,
         description="Anti-aliasing in the viewport: each redraw adds one jittered sample, up to this many; any "
                     "change starts again from the first")
+    viewport_material_edit: BoolProperty(
+        name="Fast Material Edits", default=True,
+        description="Viewport with the Full method: after a change of materials alone (a slider in the Material "
+                    "panel), the first sample is recombined from a precomputed transport (Material Edit, "
+                    "docs/MATERIAL_EDIT.md): the first such change precomputes it (a few Full frames), the next "
+                    "ones cost a fraction of a frame; any other change goes back to Full")
     viewport_budget: FloatProperty(
         name="Viewport Budget", default=200.0, min=0.0, max=1e6, soft_max=2000.0, unit="NONE",
         description="Splatting work per viewport redraw, in millions of fragments: a redraw that reaches it "

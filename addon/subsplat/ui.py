@@ -35,6 +35,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         samples.prop(settings, "samples")
         samples.prop(settings, "viewport_samples")
         layout.prop(settings, "viewport_budget")
+        layout.prop(settings, "viewport_material_edit")
         layout.prop(settings, "viewport_scale")
         layout.prop(settings, "world_directions")
         layout.prop(settings, "shadow_resolution")

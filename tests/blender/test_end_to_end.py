@@ -14,6 +14,7 @@ from subsplat_testing import helpers
 
 helpers.enable_addon()
 import numpy as np  # noqa: E402
+from subsplat_testing import accuracy  # noqa: E402
 
 PERCENTAGE = 100 if helpers.SLOW else 20
 SIZE_EXPR = f"import bpy; bpy.context.scene.render.resolution_percentage = {PERCENTAGE}"
@@ -84,11 +85,55 @@ class GlStateUnchanged(unittest.TestCase):
                     self.assertIsNone(subsplat.last_render_error())
                     stats = subsplat.last_render_stats()
                     self.assertEqual(stats["gl_state_changes"], [])
-                    # an F12 render has a context of its own: MATERIAL_EDIT precomputes its transport
+                    # the first MATERIAL_EDIT render precomputes its transport
                     self.assertEqual(stats["precompute_ms"] > 0, method == "MATERIAL_EDIT")
                     self.assertFalse(stats["transport_reused"])
         finally:
             subsplat.diagnostics.check_gl_state = False
+
+
+class MaterialEditAcrossRenders(unittest.TestCase):
+    def test_a_render_after_a_material_change_alone_reuses_the_transport(self):
+        """F12 twice with MATERIAL_EDIT and only a material change between: the second render
+        recombines the first's transport (its native context is kept while Blender's render GL
+        context is the same) and its image is within 1 % of Full's of the edited material; a light
+        move, or a render with another method in between, precomputes again (docs/MATERIAL_EDIT.md,
+        "Final renders")."""
+        import bpy
+        subsplat = helpers.enable_addon()
+        scene = helpers.empty_scene(48, 36)
+        scene.render.engine = "SUBSPLAT"
+        scene.subsplat.irradiance_resolution = 64
+        material = bpy.data.materials.new("Skin")
+        material.subsplat.enabled = True
+        material.subsplat.preset = "SKIN1"
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4)
+        bpy.context.object.data.materials.append(material)
+        helpers.top_down_camera(scene, ortho_scale=1.2)
+        light = helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+
+        def render(method):
+            image, _exitance, stats = accuracy.render_passes(scene, method)
+            self.assertIsNone(subsplat.last_render_error())
+            return image, stats
+
+        _, first = render("MATERIAL_EDIT")
+        self.assertGreater(first["precompute_ms"], 0)
+        material.subsplat.sigma_a = [2 * value for value in material.subsplat.sigma_a]
+        edited, second = render("MATERIAL_EDIT")
+        self.assertTrue(second["context_kept"] and second["transport_reused"], second)
+        full, _ = render("FULL")
+        mask = full[..., 3] > 0.5
+        error = float(np.sqrt(((edited - full)[mask][:, :3] ** 2).mean() / (full[mask][:, :3] ** 2).mean()))
+        if error >= 0.01:
+            helpers.write_difference("material_edit_f12", edited, full)
+        self.assertLess(error, 0.01, "the recombined render is Full's image of the edited material")
+        _, third = render("MATERIAL_EDIT")  # after another method's render: its context was released
+        self.assertFalse(third["context_kept"] or third["transport_reused"], third)
+        light.rotation_euler = (math.radians(40), 0, 0)
+        _, fourth = render("MATERIAL_EDIT")
+        self.assertTrue(fourth["context_kept"], fourth)
+        self.assertFalse(fourth["transport_reused"], "a light moved: precomputed again")
 
 
 class BrokenSceneFailsCleanly(unittest.TestCase):

@@ -5,7 +5,7 @@ quality (scene.subsplat.quality = 'AUTO', docs/AUTO.md) on every example scene.
 bounds are stated for):
 - REFERENCE is the truth;
 - AUTO at its default target (1 %);
-- BRUTE and FULL (automatic levels) at AUTO's resolution and at every rung up to 1.5 times it, the
+- FULL (automatic levels) at AUTO's resolution and BRUTE and FULL at every rung below it, the
   points that can be as cheap as AUTO; BRUTE at twice AUTO's resolution, up to 1024², the finest;
 - EEVEE at 1 sample and Cycles at 4.
 Each SubSplat point is replayed once, without the benchmark's warm-up frame (`--warmup 0`): what is

@@ -9,6 +9,10 @@ screenshots and the viewport's counters (subsplat.last_viewport()):
 - anti-aliasing: each redraw adds a sample up to Viewport Samples, then redraws render nothing, and
   a camera move starts again;
 - a material edit sends that material again (and no mesh) and changes the image;
+- fast material edits (docs/VIEWPORT.md): with the default method (Full), a change of materials
+  alone precomputes MATERIAL_EDIT's transport, the next one recombines it at a twentieth of a
+  Full frame's fragments or less, within 1 % relative RMSE of Full's image of the edited material;
+  a light move makes the next frame Full's and the next material edit precompute again;
 - a light move sends the lights again (and no mesh) and brightens the side it moves to;
 - progressive splatting: under a budget of a sixth of a sample's splatting, each redraw stays
   within it and a sample completes over several redraws.
@@ -22,6 +26,7 @@ import math
 import bpy
 import numpy as np
 
+from subsplat_testing import helpers
 from subsplat_testing.ui_helpers import (areas, check, close_splash, crop, crop_region, drawn, enable_addon, redraw,
                         region, run_steps, screenshot)
 
@@ -63,6 +68,36 @@ def setup():
     view.region_3d.view_perspective = "CAMERA"
     by_type["PROPERTIES"].spaces.active.context = "OBJECT"
     return subsplat, scene, sphere, material, light, view
+
+
+def edit_and_compare(subsplat, scene, material, view_area):
+    before = subsplat.last_viewport()
+    material.subsplat.sigma_a = [2 * value for value in material.subsplat.sigma_a]
+    yield from drawn(subsplat, before["draws"], settle=0.5)
+    screenshot("fast_edit")
+    edit = subsplat.last_viewport()
+    edited = subsplat.last_viewport_first_sample()
+    check(edit["material_edit_draws"] == before["material_edit_draws"] + 1 and edit["last_edit"]["transport_reused"]
+          and edit["mesh_exports"] == before["mesh_exports"],
+          f"the next edit recombines the transport ({edit['last_edit']})")
+    scene.subsplat.viewport_material_edit = False
+    yield from drawn(subsplat, edit["draws"], settle=0.0)
+    full = subsplat.last_viewport()
+    reference = subsplat.last_viewport_first_sample()
+    check(full["frame_method"] == "FULL", f"without Fast Material Edits the frame is Full's ({full['frame_method']})")
+    translucent = reference[..., 3] > 0.5
+    error = float(np.sqrt(((edited - reference)[translucent][:, :3] ** 2).mean() /
+                          (reference[translucent][:, :3] ** 2).mean()))
+    ratio = full["stats"]["fragment_invocations"]["total"] / edit["last_edit"]["fragments"]
+    print(f"viewport fast material edit: relative RMSE {error:.4f} against Full over {int(translucent.sum())} pixels; "
+          f"{edit['last_edit']['fragments']} fragments against Full's {full['stats']['fragment_invocations']['total']} "
+          f"({ratio:.0f}x); {edit['last_edit']['draw_ms']:.0f} ms against {full['draw_ms']:.0f} ms", flush=True)
+    if error > 0.01:
+        print(f"the difference: {helpers.write_difference('viewport_fast_edit', edited, reference)}")
+    check(error < 0.01, f"the edit is within 1 % of Full's image of the edited material ({error:.4f})")
+    check(ratio >= 20, f"at a twentieth of Full's fragments or less ({ratio:.1f}x)")
+    scene.subsplat.viewport_material_edit = True
+    yield from drawn(subsplat, full["draws"], settle=1.0)
 
 
 def steps():
@@ -132,6 +167,15 @@ def steps():
     warmth = [float((image[on_sphere][:, 0] - image[on_sphere][:, 2]).mean()) for image in (inside_skin, inside_marble)]
     check(warmth[0] > warmth[1] + 0.05, f"skin looks warmer than marble (red - blue: {warmth[0]:.3f}, {warmth[1]:.3f})")
 
+    # Fast material edits: the preset change was a change of materials alone, so its first sample
+    # precomputed MATERIAL_EDIT's transport; the next edit recombines it; Full's image of the same
+    # material (Fast Material Edits off) is within 1 %, at twenty times the fragments or more.
+    check(scene.subsplat.method == "FULL" and scene.subsplat.viewport_material_edit, "the defaults take the fast path")
+    check(after["material_edit_draws"] == before["material_edit_draws"] + 1 and not after["last_edit"]["transport_reused"]
+          and after["last_edit"]["precompute_ms"] > 0,
+          f"a change of materials alone precomputes the transport ({after['last_edit']})")
+    yield from edit_and_compare(subsplat, scene, material, view_area)
+
     before = subsplat.last_viewport()
     left_before = inside_marble[:, : inside_marble.shape[1] // 2].mean()
     light.rotation_euler = (math.radians(60), 0, math.radians(-90))  # now from -x
@@ -142,6 +186,13 @@ def steps():
     moved = crop_region(screenshot("light_moved"), region(view_area, "WINDOW"))
     left_after = moved[:, : moved.shape[1] // 2].mean()
     check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
+    check(after["frame_method"] == "FULL", f"a light move renders with Full ({after['frame_method']})")
+    before = subsplat.last_viewport()
+    material.subsplat.sigma_a = [value / 2 for value in material.subsplat.sigma_a]
+    yield from drawn(subsplat, before["draws"], settle=0.0)
+    after = subsplat.last_viewport()
+    check(after["material_edit_draws"] == before["material_edit_draws"] + 1 and not after["last_edit"]["transport_reused"],
+          f"after a light move, a material edit precomputes again ({after['last_edit']})")
 
     # Anti-aliasing (docs/ANTIALIASING.md): each redraw adds a jittered sample, up to Viewport Samples;
     # redraws past it render nothing; a camera move starts again from the first.

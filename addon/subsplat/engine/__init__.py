@@ -75,4 +75,5 @@ def register():
 
 
 def unregister():
+    final.release_kept()
     bpy.utils.unregister_class(SubsplatRenderEngine)

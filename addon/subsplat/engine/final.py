@@ -4,6 +4,7 @@ import re
 import time
 
 import bpy
+import numpy as np
 
 from .. import diagnostics, export, native, preferences
 from ..export import settings as export_settings
@@ -66,16 +67,24 @@ def render_image(engine, depsgraph, preview):
         engine.report({"WARNING"}, f"SubSplat: {budget_warning}")
     native.set_memory_budget(preferences.memory_budget_bytes())
     # The native context's GL objects belong to the render GL context, current only inside render().
-    context = native.Context()
+    # MATERIAL_EDIT keeps its context (and so its transport) from one final render to the next
+    # while that GL context is the one current (docs/MATERIAL_EDIT.md, "Final renders").
+    keep = settings.method == "MATERIAL_EDIT" and not preview
+    context = _kept_context(frame, render_settings) if keep else None
+    kept = context is not None
+    if not keep:
+        release_kept()
     try:
-        for material_id, material in frame.materials.values():
-            context.set_material(material_id, material)
-        for object_id, mesh in enumerate(frame.meshes):
-            context.set_mesh(object_id, mesh)
-        context.set_lights(frame.lights)
-        context.set_environment(frame.environment)
-        context.set_camera(frame.camera)
-        context.set_settings(render_settings)
+        if context is None:
+            context = native.Context()
+            for material_id, material in frame.materials.values():
+                context.set_material(material_id, material)
+            for object_id, mesh in enumerate(frame.meshes):
+                context.set_mesh(object_id, mesh)
+            context.set_lights(frame.lights)
+            context.set_environment(frame.environment)
+            context.set_camera(frame.camera)
+            context.set_settings(render_settings)
 
         progress = None
         if settings.method == "REFERENCE":
@@ -94,6 +103,7 @@ def render_image(engine, depsgraph, preview):
             stats["scene_file"] = scene_file_path(settings.scene_file, scene.frame_current)
             context.save_scene(stats["scene_file"])
         stats.update(method=settings.method, preview=preview, export_ms=export_ms, meshes=len(frame.meshes),
+                     context_kept=kept,
                      filter_width=render_settings.filter_width,
                      lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
         diagnostics.set_render_stats(stats)
@@ -106,8 +116,12 @@ def render_image(engine, depsgraph, preview):
             passes[SAMPLES_PASS] = context.render_pass(native.SS_PASS_SELECTION, width, height)
             for k in range(min(stats["splat_levels"], MAX_DEBUG_LEVELS)):
                 passes[level_pass(k)] = context.render_pass(native.SS_PASS_LEVEL_EXITANCE + k, width, height)
+        if keep:
+            _Kept.hold(context, frame)
+            context = None
     finally:
-        context.release_quietly()
+        if context is not None:
+            context.release_quietly()
     if diagnostics.keep_passes:
         diagnostics.set_render_passes({"Combined": pixels, **passes})
 
@@ -127,6 +141,64 @@ def render_image(engine, depsgraph, preview):
                   f"{stats['levels']} irradiance / {stats['splat_levels']} splatting levels")
     samples = f"{stats['samples']} sample" + ("s" if stats["samples"] != 1 else "")
     engine.update_stats("", f"SubSplat {label}: {stats['frame_ms']:.0f} ms, {samples}, {detail}")
+
+
+class _Kept:
+    """The native context of the last MATERIAL_EDIT final render and what it was sent."""
+    context = None
+    meshes = ()
+    lights = None
+    environment = None
+
+    @classmethod
+    def hold(cls, context, frame):
+        cls.context, cls.meshes = context, list(frame.meshes)
+        cls.lights, cls.environment = list(frame.lights), frame.environment
+
+
+def release_kept():
+    """Releases the kept MATERIAL_EDIT context (another method's render, the add-on's unregistering).
+    Its GL objects are deleted when their GL context is next current (SsResourceCounts)."""
+    if _Kept.context is not None:
+        _Kept.context.release_quietly()
+    _Kept.context, _Kept.meshes, _Kept.lights, _Kept.environment = None, (), None, None
+
+
+def _same_mesh(a, b):
+    return (a.name == b.name and a.object_to_world == b.object_to_world
+            and all(np.array_equal(getattr(a, field), getattr(b, field))
+                    for field in ("positions", "normals", "triangles", "triangle_materials"))
+            and (a.uvs is None) == (b.uvs is None) and (a.uvs is None or np.array_equal(a.uvs, b.uvs)))
+
+
+def _kept_context(frame, render_settings):
+    """The kept context brought up to this frame, sending only what changed (a mesh, the lights or
+    the environment sent again invalidate the transport; materials, camera and settings are
+    compared by the library), or None when there is none or its GL context is not current."""
+    context = _Kept.context
+    if context is None:
+        return None
+    try:
+        for material_id, material in frame.materials.values():
+            context.set_material(material_id, material)
+        for object_id, mesh in enumerate(frame.meshes):
+            if object_id >= len(_Kept.meshes) or not _same_mesh(_Kept.meshes[object_id], mesh):
+                context.set_mesh(object_id, mesh)
+        for object_id in range(len(frame.meshes), len(_Kept.meshes)):
+            context.remove_mesh(object_id)
+        if frame.lights != _Kept.lights:
+            context.set_lights(frame.lights)
+        if frame.environment != _Kept.environment:
+            context.set_environment(frame.environment)
+        context.set_camera(frame.camera)
+        context.set_settings(render_settings)
+    except native.SubsplatError as error:
+        release_kept()
+        if error.status != native.SS_GL_ERROR:  # another GL context (a new render window): start afresh
+            raise
+        return None
+    _Kept.context = None  # render_image holds it again when the render succeeds
+    return context
 
 
 # MATERIAL_EDIT on a scene its transport cannot carry (docs/MATERIAL_EDIT.md).

@@ -24,6 +24,9 @@ from ..export import background, camera, data, lights, mesh, settings
 
 # The method a viewport uses for each setting: REFERENCE takes minutes, so the viewport shows FULL.
 VIEWPORT_METHOD = {"REFERENCE": "FULL"}
+# After a fast material edit (docs/VIEWPORT.md, "Material edits"), the next anti-aliasing sample
+# (a Full frame) waits this long, so that a slider drag's next step is not held up by it.
+EDIT_SETTLE_S = 0.25
 
 
 class Counters:
@@ -47,6 +50,11 @@ class Counters:
         self.partial_draws = 0
         self.splat_fragments = []  # of each redraw that rendered, the last 1000
         self.draw_times = []       # view_draw ms of each redraw that rendered, the last 1000
+        # Material edits (docs/VIEWPORT.md): the method of the last redraw that rendered, and the
+        # redraws that rendered with MATERIAL_EDIT (precomputed or recombined).
+        self.frame_method = None
+        self.material_edit_draws = 0
+        self.last_edit = {}  # of the last MATERIAL_EDIT redraw: precompute_ms, transport_reused, fragments, draw_ms
 
     def as_dict(self):
         return {name: list(value) if isinstance(value, list) else value for name, value in vars(self).items()}
@@ -81,9 +89,14 @@ class ViewportSession:
         self.accumulated = None
         self.samples = 0
         self.view_key = None
-        self.context_first_sample = 0  # SsSettings.first_sample the native context holds
+        self.context_settings = None   # the SsSettings the native context holds (None: to be sent)
         self.context_budget = None     # the splatting budget the native context holds
         self.partial = None            # the image of a sample whose splatting is under way
+        self.first_sample = None       # the first sample's image (diagnostics.last_viewport_first_sample)
+        # Fast material edits: whether the image shown started from a change of materials alone, and
+        # how many times that streak of edits precomputed the transport.
+        self.editing = False
+        self.edit_precomputes = 0
 
     # -- updates -----------------------------------------------------------------------------
 
@@ -221,7 +234,7 @@ class ViewportSession:
                 self.report({"WARNING"}, f"SubSplat: {budget_warning}")
             native.set_memory_budget(preferences.memory_budget_bytes())
             self.context = native.Context()
-            self.context_first_sample = 0
+            self.context_settings = None
             self.context_budget = None  # a new context has no budget: the draw sets it
         # Each item leaves its pending set once the library has taken it: what fails (a mesh beyond
         # the memory budget) is sent again by the next draw.
@@ -241,11 +254,30 @@ class ViewportSession:
         if self.pending_environment:
             self.context.set_environment(self.environment)
             self.pending_environment = False
-        if self.pending_settings is not None:
-            self.context.set_settings(self.pending_settings)
-            self.context_first_sample = self.pending_settings.first_sample
+        if self.pending_settings is not None:  # draw() sends them, with the frame's method and sample
+            self.context_settings = None
             self.pending_settings = None
         return sent
+
+    def _materials_only(self):
+        """Whether all that waits to be sent is materials (a slider in the Material panel)."""
+        return (self.context is not None and bool(self.pending_materials) and not self.pending_removals
+                and not self.pending_meshes and self.pending_lights is None and self.pending_settings is None
+                and not self.pending_environment)
+
+    def _frame_method(self, scene):
+        """The method of the sample about to render. The viewport's anti-aliasing samples after the
+        first are jittered: MATERIAL_EDIT's transport is the first sample's, so they are Full's. With
+        Full and Fast Material Edits, the first sample after a change of materials alone is
+        MATERIAL_EDIT's (precomputed once, then recombined); a streak that has to precompute again
+        (an edit past the transport's reach) goes back to Full until the next other change."""
+        chosen = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)
+        if chosen == "MATERIAL_EDIT" and self.samples > 0:
+            return "FULL"
+        if (chosen == "FULL" and self.samples == 0 and self.editing and scene.subsplat.viewport_material_edit
+                and self.edit_precomputes < 2):
+            return "MATERIAL_EDIT"
+        return chosen
 
     # -- drawing -----------------------------------------------------------------------------
 
@@ -260,33 +292,47 @@ class ViewportSession:
         start = time.perf_counter()
         state = native.gl_state() if diagnostics.check_gl_state else None
         target = scene.subsplat.viewport_samples
+        method = None
         try:
+            materials_only = self._materials_only()
             sent = self._send_pending()
             view_camera = camera.view_data(view, self.frame.origin)
-            view_key = (width, height, view_camera)
+            view_key = (width, height, view_camera, scene.subsplat.viewport_material_edit)
             budget = int(scene.subsplat.viewport_budget * 1e6)
             if budget != self.context_budget:
                 self.context.set_splat_budget(budget)
-                self.context_budget, sent = budget, True
+                self.context_budget, sent, materials_only = budget, True, False
             if sent or view_key != self.view_key:
+                self.editing = materials_only and view_key == self.view_key
+                if not self.editing:
+                    self.edit_precomputes = 0
                 self.accumulated, self.samples, self.view_key, self.partial = None, 0, view_key, None
             rendered = self.samples < target or self.accumulated is None
             if rendered:
                 # Each redraw adds one jittered sample to the image shown, up to viewport_samples; a
                 # sample's splatting runs over as many redraws as its budget needs (the library
                 # goes on where the last stopped while nothing changed).
-                if self.samples != self.context_first_sample:
-                    self.context.set_settings(dataclasses.replace(self.settings, first_sample=self.samples))
-                    self.context_first_sample = self.samples
+                method = self._frame_method(scene)
+                wanted = dataclasses.replace(self.settings, method=method, first_sample=self.samples)
+                if wanted != self.context_settings:
+                    self.context.set_settings(wanted)
+                    self.context_settings = wanted
                 self.context.set_camera(view_camera)
                 pixels = self.context.render(width, height)
                 self.stats = self.context.stats()
+                self.counters.frame_method = method
+                if method == "MATERIAL_EDIT":
+                    self.counters.material_edit_draws += 1
+                    if not self.stats["transport_reused"] and not self.stats["transport_full_pipeline"]:
+                        self.edit_precomputes += 1
                 splatted = sum(self.stats["splat_level_fragments"])
                 self.counters.splat_fragments = (self.counters.splat_fragments + [splatted])[-1000:]
                 if self.stats["splatting_complete"]:
                     self.partial = None
                     self.accumulated = (pixels.astype(np.float64) if self.samples == 0
                                         else self.accumulated + pixels)
+                    if self.samples == 0:
+                        self.first_sample = pixels
                     self.samples += 1
                     self.counters.samples_rendered += 1
                 else:
@@ -300,7 +346,9 @@ class ViewportSession:
             print(f"SubSplat viewport: {error}", file=sys.stderr, flush=True)
             return
         self.counters.sample = self.samples
-        if self.samples < target:
+        if self.samples < target and method == "MATERIAL_EDIT" and self.editing:
+            _tag_redraw_later(engine, EDIT_SETTLE_S)  # the next sample once a slider drag pauses
+        elif self.samples < target:
             engine.tag_redraw()  # the next sample, or the rest of this one's splatting
         # The samples complete so far; before the first, the first's splats drawn so far.
         pixels = self.accumulated / self.samples if self.samples else self.partial
@@ -321,15 +369,23 @@ class ViewportSession:
         self.counters.draw_ms = (time.perf_counter() - start) * 1e3
         if rendered:
             self.counters.draw_times = (self.counters.draw_times + [self.counters.draw_ms])[-1000:]
-        method = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method).title()
+        if method == "MATERIAL_EDIT":
+            self.counters.last_edit = {"precompute_ms": self.stats["precompute_ms"],
+                                       "transport_reused": self.stats["transport_reused"],
+                                       "transport_full_pipeline": self.stats["transport_full_pipeline"],
+                                       "fragments": self.stats["fragment_invocations"]["total"],
+                                       "draw_ms": self.counters.draw_ms}
+        chosen = VIEWPORT_METHOD.get(scene.subsplat.method, scene.subsplat.method)
         progress = ""
         if self.partial is not None:
             progress = f"splatting {100 * self.stats['splatting_progress']:.0f} %, "
-        if scene.subsplat.method == "MATERIAL_EDIT":  # what the frame did with the transport
+        if self.counters.frame_method == "MATERIAL_EDIT":  # what the last frame did with the transport
+            if chosen != "MATERIAL_EDIT":
+                progress += "material edit: "
             progress += ("rendered with Full (a SubEdit material), " if self.stats["transport_full_pipeline"] else
                          "transport reused, " if self.stats["transport_reused"] else
                          f"transport precomputed in {self.stats['precompute_ms']:.0f} ms, ")
-        engine.update_stats("", f"SubSplat {method}: {progress}sample {self.samples}/{target}, "
+        engine.update_stats("", f"SubSplat {chosen.replace('_', ' ').title()}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance"
                                 f"{'' if self.stats['target_reachable'] else ' (short of the target error)'}, "
@@ -340,3 +396,14 @@ class ViewportSession:
         if self.context is not None:
             self.context.release_quietly()
             self.context = None
+
+
+def _tag_redraw_later(engine, seconds):
+    """engine.tag_redraw() in `seconds`, from a timer; nothing if the engine is gone by then."""
+    def tag():
+        try:
+            engine.tag_redraw()
+        except ReferenceError:  # the viewport was closed
+            pass
+        return None
+    bpy.app.timers.register(tag, first_interval=seconds)
