@@ -119,7 +119,7 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         name="Debug Passes", default=False,
         description="Add the passes 'SubSplat Samples' (selected irradiance samples, a colour per level: "
                     "red, green, blue, yellow, ...) and 'SubSplat Level k' (each splatting level's own "
-                    "exitance) to final renders")
+                    "exitance) to final renders (not with Reference or Material Edit, which say so)")
     scene_file: StringProperty(
         name="Save Scene File", default="", subtype="FILE_PATH",
         description="After each render, save what the library was given (meshes, materials, lights, camera, "

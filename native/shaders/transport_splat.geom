@@ -27,6 +27,7 @@ uniform vec2 groupRange;       // this draw's splines' support, R_P units
 uniform int knotCount;
 uniform float knots[24];       // the basis's knots, R_P units
 uniform float knotPixels;
+uniform float supportGrowth;   // the far group reaches this many times the material's support
 flat out vec2 splatRange;      // [R_min, R_max) of this level and group, scene units
 flat out vec3 splatPosition;
 flat out vec3 splatFlux;
@@ -54,8 +55,10 @@ void main() {
   float ell = materials[m].ranges.y;
   float footprint = sampleIn[0].footprint;
   float pad = footprintReach * footprint;
-  // The material's own kernel (the precomputed image's exitance) reaches its support.
-  vec2 range = vec2(max(groupRange.x * ell - pad, 0.0), max(groupRange.y * ell, materials[m].ranges.x) + pad);
+  // The splines reach supportGrowth times the material's support (TransportSplatting::kSupportGrowth),
+  // up to the basis's end; the material's own kernel (the precomputed image's exitance) its support.
+  float reach = min(groupRange.y * ell, supportGrowth * materials[m].ranges.x);
+  vec2 range = vec2(max(groupRange.x * ell - pad, 0.0), max(reach, materials[m].ranges.x) + pad);
   vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
   if (splatLevels > 1) {
     bool orthographic = viewToClip[3][3] > 0.5;

@@ -479,6 +479,7 @@ void Renderer::recordPrecomputation(int width, int height, int resolution, int l
       const auto& ranges = m.kernel->effectiveRange();
       e.range = std::max({ranges[0], ranges[1], ranges[2]});
       e.mmPerUnit = m.kernel->mmPerUnit();
+      e.reach = std::min(kEditReach * e.range, double(TransportSplatting::kSupportGrowth) * m.kernel->supportRadius());
       DipoleMaterial medium = dipoleMaterial(m.desc);
       for (int c = 0; c < 3; ++c) e.eta[size_t(c)] = medium.channels[size_t(c)].eta;
     }
@@ -499,11 +500,11 @@ bool Renderer::transportServes(int width, int height) const {
     const Precomputed::Entry& e = p.entries[i];
     if (m.id != e.id || (m.kernel != nullptr) != e.translucent) return false;
     if (!m.kernel) continue;
-    // The Fresnel transmittance at entry is in the transport; the basis reaches kEditReach R_P.
+    // The Fresnel transmittance at entry is in the transport, splatted as far as e.reach.
     DipoleMaterial medium = dipoleMaterial(m.desc);
     for (int c = 0; c < 3; ++c)
       if (medium.channels[size_t(c)].eta != e.eta[size_t(c)]) return false;
-    if (m.kernel->mmPerUnit() != e.mmPerUnit || m.kernel->supportRadius() > kEditReach * e.range) return false;
+    if (m.kernel->mmPerUnit() != e.mmPerUnit || m.kernel->supportRadius() > e.reach) return false;
   }
   return true;
 }

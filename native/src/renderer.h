@@ -113,6 +113,7 @@ class Renderer {
       uint32_t id = 0;
       bool translucent = false;
       double range = 0.0, mmPerUnit = 1.0;  // R_P (the longest channel's), scene units
+      double reach = 0.0;  // how far the transport was splatted, scene units (kSupportGrowth)
       std::array<double, 3> eta{};
     };
     std::vector<Entry> entries;

@@ -130,10 +130,11 @@ class SubEditFiles(unittest.TestCase):
     def test_a_mesh_without_uvs_renders_and_warns(self):
         """A SubEdit material on a mesh without UVs renders its most common profile and says so. The
         render asks for MATERIAL_EDIT, which does not carry SubEdit materials: it renders with FULL
-        and says that too (docs/MATERIAL_EDIT.md)."""
+        and says that too (docs/MATERIAL_EDIT.md), and that it has no debug passes."""
         chessboard_file(self.path("subedit_no_uvs.exr"))
         scene, obj, material = sphere_scene(lambda: translucent("NoUvs"), size=32)
         scene.subsplat.method = "MATERIAL_EDIT"
+        scene.subsplat.debug_passes = True
         material.subsplat.source = "SUBEDIT_FILE"
         material.subsplat.subedit_path = self.path("subedit_no_uvs.exr")
         while obj.data.uv_layers:
@@ -147,6 +148,7 @@ class SubEditFiles(unittest.TestCase):
         self.assertIn("most common profile", output)
         self.assertIn("Warning: SubSplat: Material Edit: a SubEdit (heterogeneous) material is in the scene, which "
                       "the precomputed transport does not carry; the frame was rendered with Full", output)
+        self.assertIn("Warning: SubSplat: Debug Passes: Material Edit renders the exitance pass only", output)
 
     def test_bad_files_fail_the_batch_render_with_a_message(self):
         text = self.path("subedit_text.exr")

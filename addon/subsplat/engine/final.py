@@ -58,6 +58,10 @@ def render_image(engine, depsgraph, preview):
     export_ms = (time.perf_counter() - start) * 1e3
     debug = settings.debug_passes and settings.method not in NO_DEBUG_PASSES
     render_settings = export_settings.render_settings(scene, debug, warnings=frame.warnings)
+    if settings.debug_passes and not debug and not preview:
+        label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
+        frame.warnings.append(f"Debug Passes: {label} renders the exitance pass only (the samples and level passes "
+                              f"are the splatting pipeline's)")
     if not preview:  # the material preview scene's area lights are Blender's, not the user's
         for warning in frame.warnings:
             engine.report({"WARNING"}, f"SubSplat: {warning}")

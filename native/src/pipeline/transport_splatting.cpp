@@ -152,6 +152,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   glUniform1i(uniform(p, "knotCount"), GLint(knots.size()));
   glUniform1fv(uniform(p, "knots"), GLsizei(knots.size()), knots.data());
   glUniform1f(uniform(p, "knotPixels"), kKnotPixels);
+  glUniform1f(uniform(p, "supportGrowth"), kSupportGrowth);
   glUniform1f(uniform(p, "groupSplit"), groupSplit_);
   int splatLevels = int(levels_.size());
   GLfloat heights[8] = {};
