@@ -108,14 +108,20 @@ class StabilityBounds(unittest.TestCase):
     def test_tiny_and_huge_objects_render_the_image_of_size_one(self):
         # A marble sphere of radius 0.0005, 0.5 and 500 units with its millimetres per unit scaled to
         # match: one physical object, one image (depth ranges, z0, light views and kernels all scale).
+        # At 256² (the case's 512² took 9 s a scale, the splats of 120 000 texels covering most of the
+        # 32 x 32 image) with alpha 5, FULL still takes a third of its samples from a coarse level,
+        # the part whose depth ranges and thresholds scale (asserted below).
         scale = case("scale")
         images = {}
         for label, build in scale.setups:
             scene = build(32)
             scene.render.engine = "SUBSPLAT"
-            stability_cases.apply(scene, scale.settings)
+            stability_cases.apply(scene, dict(scale.settings, irradiance_resolution=256, alpha=5.0))
             for method in ("REFERENCE", "BRUTE", "FULL"):
-                images[label, method] = accuracy.render_passes(scene, method, 5000)[0]
+                images[label, method], _exitance, stats = accuracy.render_passes(scene, method, 5000)
+                if method == "FULL":
+                    self.assertGreater(sum(stats["selected_per_level"][1:]), 0.2 * sum(stats["selected_per_level"]),
+                                       f"{label}: FULL must select coarse samples")
         for label, _ in scale.setups:
             for method in ("REFERENCE", "BRUTE", "FULL"):
                 ours, unit = images[label, method], images["x1", method]

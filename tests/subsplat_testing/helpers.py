@@ -246,9 +246,25 @@ def one_of_two(image, first, second, tolerance=0.05):
 
 
 def run_tests(test_case_module_name="__main__"):
+    import time
     import unittest
+
+    class Timed(unittest.TextTestResult):
+        """Each test's wall time (with its class's setUpClass, counted in its first test), printed at
+        the end: where CI's time goes (docs/CI.md)."""
+        durations = []
+
+        def startTest(self, test):
+            self._started = time.perf_counter()
+            super().startTest(test)
+
+        def stopTest(self, test):
+            super().stopTest(test)
+            self.durations.append((time.perf_counter() - self._started, test.id().split(".", 1)[-1]))
+
     suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[test_case_module_name])
-    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    result = unittest.TextTestRunner(verbosity=2, resultclass=Timed).run(suite)
+    print("durations: " + "; ".join(f"{name} {seconds:.1f} s" for seconds, name in sorted(Timed.durations, reverse=True)))
     passed = result.testsRun - len(result.failures) - len(result.errors)
     print(f"{passed} passed, {len(result.failures) + len(result.errors)} failed")
     if not result.wasSuccessful():
