@@ -4,7 +4,7 @@
 #               (blender) and in Blender's UI under Xvfb (ui), and the per-version
 #               suite in the `bpy` module of Blender 4.2, 4.5 and 5.0 (bpy, docs/VERSIONS.md);
 #   build-san/  clang with AddressSanitizer and UndefinedBehaviorSanitizer (docs/RELIABILITY.md):
-#               the native tests again, and each libFuzzer target for FUZZ_SECONDS (default 30)
+#               the native tests again, and each libFuzzer target for FUZZ_SECONDS (default 20)
 #               from its seeds (label fuzz); any ASan or UBSan report, or a leak not of the GL
 #               driver's, fails the run.
 # The slow tier (the 1000-render soak, the full trade-off and stability sweeps): bash bench/slow.sh.

@@ -58,23 +58,30 @@ class ExampleScenesRender(unittest.TestCase):
                 bpy.data.images.remove(image)
 
 
+def skin_sphere():
+    """A Skin1 sphere under a sun, seen from above at 48 x 36, 64² irradiance: (scene, material, light)."""
+    import bpy
+    scene = helpers.empty_scene(48, 36)
+    scene.render.engine = "SUBSPLAT"
+    scene.subsplat.irradiance_resolution = 64
+    material = bpy.data.materials.new("Skin")
+    material.subsplat.enabled = True
+    material.subsplat.preset = "SKIN1"
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4)
+    bpy.context.object.data.materials.append(material)
+    helpers.top_down_camera(scene, ortho_scale=1.2)
+    light = helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+    return scene, material, light
+
+
 class GlStateUnchanged(unittest.TestCase):
     def test_every_method_leaves_blenders_gl_state(self):
         """The GL state Blender relies on (bindings, blend, depth, cull, scissor, viewport, pixel
         store: native.gl_state) is the same after a render as before, for every method."""
         import bpy
         subsplat = helpers.enable_addon()
-        scene = helpers.empty_scene(48, 36)
-        scene.render.engine = "SUBSPLAT"
-        scene.subsplat.irradiance_resolution = 64
+        scene, _material, _light = skin_sphere()
         scene.subsplat.reference_samples = 2000
-        material = bpy.data.materials.new("Skin")
-        material.subsplat.enabled = True
-        material.subsplat.preset = "SKIN1"
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4)
-        bpy.context.object.data.materials.append(material)
-        helpers.top_down_camera(scene, ortho_scale=1.2)
-        helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
         subsplat.diagnostics.check_gl_state = True
         try:
             for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT"):
@@ -99,18 +106,8 @@ class MaterialEditAcrossRenders(unittest.TestCase):
         context is the same) and its image is within 1 % of Full's of the edited material; a light
         move, or a render with another method in between, precomputes again (docs/MATERIAL_EDIT.md,
         "Final renders")."""
-        import bpy
         subsplat = helpers.enable_addon()
-        scene = helpers.empty_scene(48, 36)
-        scene.render.engine = "SUBSPLAT"
-        scene.subsplat.irradiance_resolution = 64
-        material = bpy.data.materials.new("Skin")
-        material.subsplat.enabled = True
-        material.subsplat.preset = "SKIN1"
-        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.4)
-        bpy.context.object.data.materials.append(material)
-        helpers.top_down_camera(scene, ortho_scale=1.2)
-        light = helpers.add_light(scene, "SUN", rotation=(math.radians(30), 0, 0), energy=3.0, angle=0.0)
+        scene, material, light = skin_sphere()
 
         def render(method):
             image, _exitance, stats = accuracy.render_passes(scene, method)

@@ -12,10 +12,12 @@ screenshots and the viewport's counters (subsplat.last_viewport()):
 - fast material edits (docs/VIEWPORT.md): with the default method (Full), a change of materials
   alone precomputes MATERIAL_EDIT's transport, the next one recombines it at a twentieth of a
   Full frame's fragments or less, within 1 % relative RMSE of Full's image of the edited material;
-  a light move makes the next frame Full's and the next material edit precompute again;
+  a light move makes the next frame Full's (that the library then precomputes again is
+  MaterialEdit.AnyChangeButTheMaterialPrecomputesAgain's, and test_end_to_end's for F12);
 - a light move sends the lights again (and no mesh) and brightens the side it moves to;
 - progressive splatting: under a budget of a sixth of a sample's splatting, each redraw stays
-  within it and a sample completes over several redraws.
+  within it and a sample completes over several redraws;
+- F12 twice with Material Edit and a material change between: the second recombines.
 
 Run: xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup --python test_viewport.py
 (CTest does, with BLENDER_USER_SCRIPTS pointing at the built add-on). Exits 0 when every check
@@ -187,12 +189,6 @@ def steps():
     left_after = moved[:, : moved.shape[1] // 2].mean()
     check(left_after > left_before + 0.01, f"the side the light moved to brightens ({left_before:.3f} -> {left_after:.3f})")
     check(after["frame_method"] == "FULL", f"a light move renders with Full ({after['frame_method']})")
-    before = subsplat.last_viewport()
-    material.subsplat.sigma_a = [value / 2 for value in material.subsplat.sigma_a]
-    yield from drawn(subsplat, before["draws"], settle=0.0)
-    after = subsplat.last_viewport()
-    check(after["material_edit_draws"] == before["material_edit_draws"] + 1 and not after["last_edit"]["transport_reused"],
-          f"after a light move, a material edit precomputes again ({after['last_edit']})")
 
     # Anti-aliasing (docs/ANTIALIASING.md): each redraw adds a jittered sample, up to Viewport Samples;
     # redraws past it render nothing; a camera move starts again from the first.
@@ -252,6 +248,23 @@ def steps():
 
     changes = subsplat.last_viewport()["gl_state_changes"]
     check(changes == [], f"no draw left Blender's GL state changed ({changes})")
+
+    # F12 with Material Edit in Blender's UI (its render GL context, not the viewport's): the second
+    # render after a change of materials alone recombines the first's transport (docs/MATERIAL_EDIT.md,
+    # "Final renders").
+    view.shading.type = "SOLID"  # the viewport would render Material Edit too
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.subsplat.method = "MATERIAL_EDIT"
+    bpy.ops.render.render()
+    first = subsplat.last_render_stats()
+    material.subsplat.sigma_a = [2 * value for value in material.subsplat.sigma_a]
+    bpy.ops.render.render()
+    second = subsplat.last_render_stats()
+    check(subsplat.last_render_error() is None and first["precompute_ms"] > 0 and second["context_kept"]
+          and second["transport_reused"],
+          f"F12 twice in the UI with a material change between recombines ({first.get('precompute_ms')} ms, then "
+          f"kept {second.get('context_kept')}, reused {second.get('transport_reused')})")
+    scene.subsplat.method = "FULL"
 
 
 run_steps(steps())

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One libFuzzer target for FUZZ_SECONDS (default 30) from its seeds (CTest's fuzz_* tests,
+# One libFuzzer target for FUZZ_SECONDS (default 20) from its seeds (CTest's fuzz_* tests,
 # native/CMakeLists.txt; docs/RELIABILITY.md):
 #   bash tests/sanitizers/fuzz.sh FUZZER SEED_DIR WORK_DIR
 # The seeds are replayed first (the regression cases); new inputs go to WORK_DIR/corpus. A crash,
@@ -9,8 +9,8 @@ set -uo pipefail
 fuzzer=$1 seeds=$2 work=$3
 mkdir -p "$work/corpus"
 log=$work/fuzz.log
-echo "Fuzzing $(basename "$fuzzer") for ${FUZZ_SECONDS:-30} s from $seeds"
-"$fuzzer" -max_total_time="${FUZZ_SECONDS:-30}" -timeout=30 -rss_limit_mb=4096 -artifact_prefix="$work/crash_" \
+echo "Fuzzing $(basename "$fuzzer") for ${FUZZ_SECONDS:-20} s from $seeds"
+"$fuzzer" -max_total_time="${FUZZ_SECONDS:-20}" -timeout=30 -rss_limit_mb=4096 -artifact_prefix="$work/crash_" \
   -print_final_stats=1 "$work/corpus" "$seeds" > "$log" 2>&1
 status=$?
 grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done)" "$log"
