@@ -1,6 +1,7 @@
 """Material previews are rendered by SubSplat (bl_use_preview): in Blender with its UI (under Xvfb),
 the material slot icon of a skin material shows a warm translucent sphere, and it turns into a
 paler, bluer one when the material becomes marble; after each, Python may still write to ID data.
+A preview rendered between two F12 renders with Material Edit leaves their kept context be.
 
 Run as CTest's blender_ui_test_preview does. The icons go to $SUBSPLAT_TEST_OUTPUT/preview_*.png.
 """
@@ -105,6 +106,24 @@ def steps():
     middle_marble = marble[h // 4: 3 * h // 4, w // 4: 3 * w // 4, :3].reshape(-1, 3).mean(axis=0)
     check(middle_marble[2] / middle_marble[0] > middle[2] / middle[0] + 0.1,
           f"the marble preview is paler and bluer than skin (rgb {middle_marble} against {middle})")
+
+    # A preview between two F12 renders with Material Edit leaves the kept context be (an artist
+    # edits with the Material panel open): the second F12 recombines (docs/MATERIAL_EDIT.md, "Final
+    # renders").
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.subsplat.method = "MATERIAL_EDIT"
+    bpy.ops.render.render()
+    first = subsplat.last_render_stats()
+    check(subsplat.last_render_error() is None and first.get("precompute_ms", 0) > 0, "the first F12 precomputes")
+    material.subsplat.preset = "SKIN1"
+    yield from rendered_icon(material, previous=marble)
+    holder.pop()
+    check(subsplat.last_render_stats().get("preview") is True, "a preview rendered between the two F12 renders")
+    bpy.ops.render.render()
+    second = subsplat.last_render_stats()
+    check(subsplat.last_render_error() is None and second.get("context_kept") and second.get("transport_reused"),
+          f"after the preview, the second F12 recombines (kept {second.get('context_kept')}, "
+          f"reused {second.get('transport_reused')})")
 
 
 run_steps(steps())

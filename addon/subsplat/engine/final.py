@@ -76,7 +76,7 @@ def render_image(engine, depsgraph, preview):
     keep = settings.method == "MATERIAL_EDIT" and not preview
     context = _kept_context(frame, render_settings) if keep else None
     kept = context is not None
-    if not keep:
+    if not keep and not preview:  # a material preview (a thumbnail while editing) leaves it be
         release_kept()
     try:
         if context is None:
