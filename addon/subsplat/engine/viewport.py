@@ -97,6 +97,7 @@ class ViewportSession:
         # how many times that streak of edits precomputed the transport.
         self.editing = False
         self.edit_precomputes = 0
+        self.edit_frames = 0  # fast-edit frames so far: a delayed redraw is for the latest only
 
     # -- updates -----------------------------------------------------------------------------
 
@@ -347,7 +348,10 @@ class ViewportSession:
             return
         self.counters.sample = self.samples
         if self.samples < target and method == "MATERIAL_EDIT" and self.editing:
-            _tag_redraw_later(engine, EDIT_SETTLE_S)  # the next sample once a slider drag pauses
+            # The next sample once a slider drag pauses: a redraw EDIT_SETTLE_S after the latest edit.
+            self.edit_frames += 1
+            frame = self.edit_frames
+            _tag_redraw_later(engine, EDIT_SETTLE_S, lambda: self.edit_frames == frame)
         elif self.samples < target:
             engine.tag_redraw()  # the next sample, or the rest of this one's splatting
         # The samples complete so far; before the first, the first's splats drawn so far.
@@ -398,11 +402,13 @@ class ViewportSession:
             self.context = None
 
 
-def _tag_redraw_later(engine, seconds):
-    """engine.tag_redraw() in `seconds`, from a timer; nothing if the engine is gone by then."""
+def _tag_redraw_later(engine, seconds, still_wanted):
+    """engine.tag_redraw() in `seconds`, from a timer, if still_wanted() then; nothing if the engine
+    is gone by then."""
     def tag():
         try:
-            engine.tag_redraw()
+            if still_wanted():
+                engine.tag_redraw()
         except ReferenceError:  # the viewport was closed
             pass
         return None
