@@ -28,17 +28,17 @@ import json
 import os
 import platform
 import statistics
+import subprocess
 import sys
 
 import bpy
-import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [os.path.join(ROOT, "tests"), os.path.join(ROOT, "bench")]
 
 from subsplat_testing import accuracy, physical, twin_truth  # noqa: E402
+from tradeoff import CONVERTIBLE, relative_rmse  # noqa: E402  (the examples with a physical truth)
 
-CONVERTIBLE = ("skin_suzanne", "marble_pieces", "wax_jade", "finger_pose")  # bench/tradeoff.py's
 AMORTISED = (1, 10, 100)
 
 
@@ -64,11 +64,6 @@ def render(scene, method):
 
 def fragments(stats):
     return int(stats["fragment_invocations"]["total"])
-
-
-def relative_rmse(image, reference, mask):
-    ours, theirs = image[mask][:, :3].astype(np.float64), reference[mask][:, :3].astype(np.float64)
-    return float(np.sqrt(((ours - theirs) ** 2).mean() / (theirs ** 2).mean()))
 
 
 def measure(name, model, args):
@@ -169,12 +164,11 @@ def main():
     args = arguments()
     rows = [measure(name, model, args) for name in args.scenes for model in args.models]
     os.makedirs(args.output, exist_ok=True)
-    import subsplat
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
     record = {"machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores",
               "cpu": next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
                           "unknown"),
-              "blender": bpy.app.version_string, "subsplat": subsplat.version.VERSION if hasattr(subsplat, "version")
-              and hasattr(subsplat.version, "VERSION") else None,
+              "blender": bpy.app.version_string, "commit": commit.stdout.strip() or None,
               "percentage": args.percentage, "runs": args.runs, "rows": rows}
     with open(os.path.join(args.output, "material_edit_examples.json"), "w") as f:
         json.dump(record, f, indent=1)

@@ -58,8 +58,8 @@ def render_image(engine, depsgraph, preview):
     export_ms = (time.perf_counter() - start) * 1e3
     debug = settings.debug_passes and settings.method not in NO_DEBUG_PASSES
     render_settings = export_settings.render_settings(scene, debug, warnings=frame.warnings)
+    label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
     if settings.debug_passes and not debug and not preview:
-        label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
         frame.warnings.append(f"Debug Passes: {label} renders the exitance pass only (the samples and level passes "
                               f"are the splatting pipeline's)")
     if not preview:  # the material preview scene's area lights are Blender's, not the user's
@@ -81,14 +81,7 @@ def render_image(engine, depsgraph, preview):
     try:
         if context is None:
             context = native.Context()
-            for material_id, material in frame.materials.values():
-                context.set_material(material_id, material)
-            for object_id, mesh in enumerate(frame.meshes):
-                context.set_mesh(object_id, mesh)
-            context.set_lights(frame.lights)
-            context.set_environment(frame.environment)
-            context.set_camera(frame.camera)
-            context.set_settings(render_settings)
+            _send(context, frame, render_settings)
 
         progress = None
         if settings.method == "REFERENCE":
@@ -136,7 +129,6 @@ def render_image(engine, depsgraph, preview):
     for name, values in passes.items():
         result.layers[0].passes[name].rect = values.reshape(-1, 4)
     engine.end_result(result)
-    label = dict((key, name) for key, name, _ in METHOD_ITEMS)[settings.method]
     if settings.method == "REFERENCE":
         detail = f"{stats['splat_count']} surface samples"
     else:
@@ -175,32 +167,42 @@ def _same_mesh(a, b):
             and (a.uvs is None) == (b.uvs is None) and (a.uvs is None or np.array_equal(a.uvs, b.uvs)))
 
 
+_UNSENT = object()  # _send: nothing was sent before
+
+
+def _send(context, frame, render_settings, meshes=(), lights=_UNSENT, environment=_UNSENT):
+    """Sends the frame to the context. meshes, lights, environment: what the context was sent
+    before (a kept context's); only what differs from them is sent again (a mesh, the lights or the
+    environment sent again invalidate MATERIAL_EDIT's transport; materials, camera and settings are
+    compared by the library)."""
+    for material_id, material in frame.materials.values():
+        context.set_material(material_id, material)
+    for object_id, mesh in enumerate(frame.meshes):
+        if object_id >= len(meshes) or not _same_mesh(meshes[object_id], mesh):
+            context.set_mesh(object_id, mesh)
+    for object_id in range(len(frame.meshes), len(meshes)):
+        context.remove_mesh(object_id)
+    if lights is _UNSENT or frame.lights != lights:
+        context.set_lights(frame.lights)
+    if environment is _UNSENT or frame.environment != environment:
+        context.set_environment(frame.environment)
+    context.set_camera(frame.camera)
+    context.set_settings(render_settings)
+
+
 def _kept_context(frame, render_settings):
-    """The kept context brought up to this frame, sending only what changed (a mesh, the lights or
-    the environment sent again invalidate the transport; materials, camera and settings are
-    compared by the library), or None when there is none or its GL context is not current."""
+    """The kept context brought up to this frame (_send), or None when there is none or its GL
+    context is not current."""
     context = _Kept.context
     if context is None:
         return None
     try:
-        for material_id, material in frame.materials.values():
-            context.set_material(material_id, material)
-        for object_id, mesh in enumerate(frame.meshes):
-            if object_id >= len(_Kept.meshes) or not _same_mesh(_Kept.meshes[object_id], mesh):
-                context.set_mesh(object_id, mesh)
-        for object_id in range(len(frame.meshes), len(_Kept.meshes)):
-            context.remove_mesh(object_id)
-        if frame.lights != _Kept.lights:
-            context.set_lights(frame.lights)
-        if frame.environment != _Kept.environment:
-            context.set_environment(frame.environment)
-        context.set_camera(frame.camera)
-        context.set_settings(render_settings)
+        _send(context, frame, render_settings, _Kept.meshes, _Kept.lights, _Kept.environment)
     except native.SubsplatError as error:
         release_kept()
-        if error.status != native.SS_GL_ERROR:  # another GL context (a new render window): start afresh
+        if error.status != native.SS_GL_ERROR:
             raise
-        return None
+        return None  # another GL context is current (a new render window): start afresh
     _Kept.context = None  # render_image holds it again when the render succeeds
     return context
 

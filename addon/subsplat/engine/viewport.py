@@ -226,9 +226,7 @@ class ViewportSession:
     def _send_pending(self):
         """Sends what view_update() found changed; the viewport's GL context is current. True when
         anything was sent (the image shown is then out of date)."""
-        sent = bool(self.context is None or self.pending_materials or self.pending_removals or self.pending_meshes
-                    or self.pending_lights is not None or self.pending_settings is not None
-                    or self.pending_environment)
+        sent = self.context is None or bool(self.pending_materials) or self._pending_besides_materials()
         if self.context is None:
             budget_warning = preferences.memory_budget_warning()
             if budget_warning:
@@ -260,11 +258,13 @@ class ViewportSession:
             self.pending_settings = None
         return sent
 
+    def _pending_besides_materials(self):
+        return bool(self.pending_removals or self.pending_meshes or self.pending_lights is not None
+                    or self.pending_settings is not None or self.pending_environment)
+
     def _materials_only(self):
         """Whether all that waits to be sent is materials (a slider in the Material panel)."""
-        return (self.context is not None and bool(self.pending_materials) and not self.pending_removals
-                and not self.pending_meshes and self.pending_lights is None and self.pending_settings is None
-                and not self.pending_environment)
+        return self.context is not None and bool(self.pending_materials) and not self._pending_besides_materials()
 
     def _frame_method(self, scene):
         """The method of the sample about to render. The viewport's anti-aliasing samples after the
