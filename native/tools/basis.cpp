@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -67,8 +68,27 @@ int main(int argc, char** argv) {
     calibration.push_back({"calibration", p, true, false});
   std::vector<testing::EditFamilyMember> presets = testing::presetEditFamily();
   std::vector<testing::EditFamilyMember> random = testing::randomTestFamily(64);
-  std::printf("{\"reach\": %g, \"calibration_media\": %zu, \"preset_profiles\": %zu, \"test_media\": %zu, \"rows\": [\n",
+  // How much sigma_s' x 0.5, the edit that lengthens a profile most, lengthens each preset's
+  // support (its longest channel's, as SupportedProfile cut them) under each model: what
+  // TransportSplatting::kSupportGrowth must carry (docs/MATERIAL_EDIT.md, "The precomputation").
+  std::map<std::string, double> supports;
+  for (const testing::EditFamilyMember& m : presets) {
+    const auto* cut = dynamic_cast<const SupportedProfile*>(m.profile.profile.get());
+    if (cut && m.name.size() > 10 && m.name.compare(m.name.size() - 10, 10, " channel 0") == 0)
+      supports[m.name.substr(0, m.name.size() - 10)] = cut->support();
+  }
+  std::printf("{\"reach\": %g, \"calibration_media\": %zu, \"preset_profiles\": %zu, \"test_media\": %zu,\n"
+              " \"support_growth_sigma_s_half\": {",
               kEditReach, calibration.size(), presets.size(), random.size());
+  const std::string half = " sigma_s' x0.5";
+  bool firstGrowth = true;
+  for (const auto& [name, support] : supports) {
+    auto edited = supports.find(name + half);
+    if (name.find(" sigma_") != std::string::npos || edited == supports.end() || !(support > 0.0)) continue;
+    std::printf("%s\"%s\": %.4f", firstGrowth ? "" : ", ", name.c_str(), edited->second / support);
+    firstGrowth = false;
+  }
+  std::printf("},\n \"rows\": [\n");
   bool first = true;
   for (int m : intervals)
     for (int degree : {1, 2})

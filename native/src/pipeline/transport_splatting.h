@@ -38,7 +38,7 @@ class TransportSplatting {
   // How far the transport is splatted: kSupportGrowth times the precomputed material's support
   // (its kernel's SplatKernel::supportRadius), up to the basis's reach (kEditReach R_P). An edit
   // may lengthen the support that much and still recombine: sigma_s' x 0.5 lengthens the presets'
-  // by 1.49-1.63x (docs/MATERIAL_EDIT.md, "The precomputation"). The quads' area, and with it the
+  // by 1.30-1.63x, Cream's by 1.68x and 2.00x (subsplat_basis; docs/MATERIAL_EDIT.md, "The precomputation"). The quads' area, and with it the
   // precomputation's cost, grows as its square.
   static constexpr float kSupportGrowth = 1.7f;
   // The basis (editBasis(kEditIntervals, kEditDegree)) and its splines' kernel tables.
