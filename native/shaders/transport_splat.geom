@@ -23,6 +23,7 @@ uniform float footprintReach;  // x sigma
 uniform int splatLevel;
 uniform int splatLevels;
 uniform float levelHeight[8];
+uniform int group;             // 0: the near group (splines 0-8), 1: the far group (9-17)
 uniform vec2 groupRange;       // this draw's splines' support, R_P units
 uniform int knotCount;
 uniform float knots[24];       // the basis's knots, R_P units
@@ -55,10 +56,12 @@ void main() {
   float ell = materials[m].ranges.y;
   float footprint = sampleIn[0].footprint;
   float pad = footprintReach * footprint;
-  // The splines reach supportGrowth times the material's support (TransportSplatting::kSupportGrowth),
-  // up to the basis's end; the material's own kernel (the precomputed image's exitance) its support.
-  float reach = min(groupRange.y * ell, supportGrowth * materials[m].ranges.x);
-  vec2 range = vec2(max(groupRange.x * ell - pad, 0.0), max(reach, materials[m].ranges.x) + pad);
+  // The far group's splines reach supportGrowth times the material's support
+  // (TransportSplatting::kSupportGrowth), up to the basis's end, and its means (layer 7) the
+  // material's own support; the near group's splines and means end at groupRange.y R_P.
+  float reach = groupRange.y * ell;
+  if (group != 0) reach = max(min(reach, supportGrowth * materials[m].ranges.x), materials[m].ranges.x);
+  vec2 range = vec2(max(groupRange.x * ell - pad, 0.0), reach + pad);
   vec3 c = (worldToView * vec4(sampleIn[0].position, 1.0)).xyz;
   if (splatLevels > 1) {
     bool orthographic = viewToClip[3][3] > 0.5;

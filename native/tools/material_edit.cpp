@@ -29,6 +29,17 @@ uint64_t fragments(const SsStats& s) {
   return sum;
 }
 
+// The time of each stage (SS_STAGE_*: buffers, splatting, shading, read-back), a JSON array.
+std::string stages(const SsStats& s) {
+  std::string out = "[";
+  char number[32];
+  for (int k = 0; k < SS_STAGE_COUNT; ++k) {
+    std::snprintf(number, sizeof number, "%s%.1f", k ? ", " : "", s.stage_ms[k]);
+    out += number;
+  }
+  return out + "]";
+}
+
 bool render(SsContext context, int method, int width, int height, int resolution, std::vector<float>& rgba,
             SsStats& stats) {
   SsSettings settings = ssDefaultSettings();
@@ -85,10 +96,12 @@ int main(int argc, char** argv) {
     if (!render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
     std::printf("%s{\"set\": \"%s\", \"index\": %d, \"scene\": \"%s\",\n  \"precompute_ms\": %.1f, "
                 "\"precompute_fragments\": %llu, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f,\n"
+                "  \"precompute_stage_ms\": %s, \"full_stage_ms\": %s,\n"
                 "  \"edits\": [",
                 index == first ? "" : ",\n", subsplat::testing::setName(set), index, scene.description.c_str(),
                 editStats.precompute_ms, (unsigned long long)fragments(editStats), fullStats.frame_ms,
-                (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(edit, full));
+                (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(edit, full),
+                stages(editStats).c_str(), stages(fullStats).c_str());
     const char* names[3] = {"sigma_a x2", "sigma_s' x0.5", "Skin2"};
     bool firstEdit = true;
     for (int e = 0; e < 3; ++e) {
