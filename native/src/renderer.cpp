@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -253,7 +254,13 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   // Going on with one sample, the direct light is the first render's (anti-aliasing's other
   // samples draw theirs into the same buffer, so with them every render draws it again).
-  bool reuseDirect = resuming && samples == 1;
+  // A material edit that leaves what the direct light reads as it was keeps the direct light of
+  // the render before it (the precomputation's, or an edit's), and draws no light view.
+  std::vector<double> directSignature;
+  if (editing && samples == 1 && settings_.first_sample == 0) directSignature = this->directSignature();
+  bool keptDirect = reuse && directKept_ && !directSignature.empty() && directSignature == directKeptFor_;
+  directKept_ = keptDirect;  // until this render succeeds
+  bool reuseDirect = (resuming && samples == 1) || keptDirect;
   if (!reuseDirect) shading_.clear();
   gl::checkErrors("splatting buffer");
 
@@ -332,6 +339,7 @@ void Renderer::render(int width, int height, float* rgba) {
     const LightView& view = views[i];
     // Going on (docs/VIEWPORT.md): the direct light is the first render's; only the views still
     // to splat are drawn again, while the budget lasts.
+    if (keptDirect) break;
     if (reuseDirect && (i < resume.view || splatsStopped || translucent.empty())) continue;
     const ShadowInputs* kept = reuse ? copies.find(i) : nullptr;
     ShadowInputs inputs;
@@ -438,6 +446,7 @@ void Renderer::render(int width, int height, float* rgba) {
   countCoverage(width, height, rgba, exitanceTexture);
   stats_.width = width;
   stats_.height = height;
+  if (!directSignature.empty()) directKept_ = true, directKeptFor_ = std::move(directSignature);
   bool complete = !budgeted || translucent.empty() || resume.view >= views.size();
   stats_.splatting_complete = complete ? 1 : 0;
   if (!complete) {  // views done, and of the view under way its levels done and its level's share
@@ -507,6 +516,29 @@ bool Renderer::transportServes(int width, int height) const {
     if (m.kernel->mmPerUnit() != e.mmPerUnit || m.kernel->supportRadius() > e.reach) return false;
   }
   return true;
+}
+
+std::vector<double> Renderer::directSignature() const {
+  std::vector<double> signature;
+  auto texture = [&](const Texture& t) {
+    signature.push_back(double(reinterpret_cast<uintptr_t>(t.image.get())));
+    signature.insert(signature.end(), std::begin(t.transform), std::end(t.transform));
+    signature.push_back(t.extension);
+    signature.push_back(t.interpolation);
+  };
+  for (const MaterialEntry& m : scene_.denseMaterials()) {
+    const SsMaterialDesc& d = m.desc;
+    signature.insert(signature.end(), {double(d.kind), d.base_color[0], d.base_color[1], d.base_color[2], d.eta,
+                                       d.mm_per_unit, d.roughness, d.specular, double(d.profile_model),
+                                       d.normal_strength});
+    if (d.kind != SS_MATERIAL_OPAQUE && (d.profile_model != SS_PROFILE_DIPOLE || m.transport)) {  // TABULATED
+      signature.insert(signature.end(), std::begin(d.sigma_a), std::end(d.sigma_a));
+      signature.insert(signature.end(), std::begin(d.sigma_s_prime), std::end(d.sigma_s_prime));
+    }
+    texture(m.color);
+    texture(m.normal);
+  }
+  return signature;
 }
 
 std::vector<EditCoefficients> Renderer::editCoefficients() const {

@@ -119,6 +119,16 @@ class Renderer {
     std::vector<Entry> entries;
   };
   Precomputed precomputed_;  // valid once the render that precomputed it has succeeded
+  // The direct light in shading_ as the last render left it, when that render was MATERIAL_EDIT's
+  // with one unjittered sample: the precomputation's camera, lights and meshes, and materials of
+  // signature directKeptFor_ (directSignature). An edit that changes none of what the direct light
+  // reads (a DIPOLE-model material's absorption or scattering) draws no light view.
+  bool directKept_ = false;
+  std::vector<double> directKeptFor_;
+  // What the direct light reads of the materials (direct_lighting.frag): every field but the
+  // absorption and scattering of materials whose model is not TABULATED (whose direct light sends
+  // light through thin parts), and the textures' images by identity.
+  std::vector<double> directSignature() const;
   bool transportServes(int width, int height) const;
   // What the transport splatted this render was precomputed for (camera: the host's).
   void recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,

@@ -1,10 +1,11 @@
 // subsplat_material_edit: MATERIAL_EDIT against FULL on procedural scenes (docs/MATERIAL_EDIT.md).
-// Per scene: the precomputation (a MATERIAL_EDIT render of the scene's material) and FULL of the same
-// material, then the edits of every translucent material in turn (sigma_a x 2, sigma_s' x 0.5,
-// another preset), each a MATERIAL_EDIT render (reusing the transport where it can) against FULL's
-// render of the edited material: relative RMSE, wall times and fragment invocations, one JSON
-// object per scene. The calibration set chooses the constants of the precomputation; the test
-// set, never looked at while choosing them, is what docs/MATERIAL_EDIT.md reports.
+// Per scene: the precomputation (a MATERIAL_EDIT render of the scene's material), then the issue's
+// edits of every translucent material one after another (sigma_a x 2, sigma_s' x 0.5, another
+// preset; each from the scene's own material), each a MATERIAL_EDIT render reusing the transport
+// where it can, then FULL's renders of the scene's material and of each edited one: relative RMSE,
+// wall times, fragment invocations and light views drawn, one JSON object per scene. The
+// calibration set chooses the constants of the precomputation; the test set, never looked at while
+// choosing them, is what docs/MATERIAL_EDIT.md reports.
 //
 //   subsplat_material_edit [--set calibration|test] [--first N] [--count N] [--size WxH]
 //                          [--resolution N] [--images DIR]
@@ -92,46 +93,54 @@ int main(int argc, char** argv) {
     if (scene.apply(context) != SS_OK) return 1;
     std::vector<float> edit, full;
     SsStats editStats{}, fullStats{};
+    // The precomputation, then the edits one after another (as a slider drags), then FULL's renders
+    // of the scene's own material and of each edited one.
     if (!render(context, SS_METHOD_MATERIAL_EDIT, width, height, resolution, edit, editStats)) return 1;
-    if (!render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
-    std::printf("%s{\"set\": \"%s\", \"index\": %d, \"scene\": \"%s\",\n  \"precompute_ms\": %.1f, "
-                "\"precompute_fragments\": %llu, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f,\n"
-                "  \"precompute_stage_ms\": %s, \"full_stage_ms\": %s,\n"
-                "  \"edits\": [",
-                index == first ? "" : ",\n", subsplat::testing::setName(set), index, scene.description.c_str(),
-                editStats.precompute_ms, (unsigned long long)fragments(editStats), fullStats.frame_ms,
-                (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(edit, full),
-                stages(editStats).c_str(), stages(fullStats).c_str());
+    const SsStats precomputation = editStats;
+    const std::vector<float> precomputed = edit;
     const char* names[3] = {"sigma_a x2", "sigma_s' x0.5", "Skin2"};
-    bool firstEdit = true;
-    for (int e = 0; e < 3; ++e) {
+    // Sets the scene's translucent materials to edit e (-1: their own).
+    auto setEdit = [&](int e) {
       for (size_t m = 0; m < scene.materials.size(); ++m) {
         SsMaterialDesc d = scene.materials[m];
-        if (d.kind != SS_MATERIAL_DIPOLE) continue;
-        if (e == 0) for (float& a : d.sigma_a) a *= 2.0f;
-        if (e == 1) for (float& s : d.sigma_s_prime) s *= 0.5f;
-        if (e == 2)
+        if (d.kind == SS_MATERIAL_DIPOLE && e == 0) for (float& a : d.sigma_a) a *= 2.0f;
+        if (d.kind == SS_MATERIAL_DIPOLE && e == 1) for (float& s : d.sigma_s_prime) s *= 0.5f;
+        if (d.kind == SS_MATERIAL_DIPOLE && e == 2)
           for (const subsplat::testing::PresetMedium& p : subsplat::testing::kPresetMedia)
             if (std::strcmp(p.name, "Skin2") == 0) {
               std::memcpy(d.sigma_a, p.sigmaA, sizeof d.sigma_a);
               std::memcpy(d.sigma_s_prime, p.sigmaSPrime, sizeof d.sigma_s_prime);
             }
-        if (ssSetMaterial(context, uint32_t(m), &d) != SS_OK) return 1;
+        if (ssSetMaterial(context, uint32_t(m), &d) != SS_OK) return false;
       }
-      if (!render(context, SS_METHOD_MATERIAL_EDIT, width, height, resolution, edit, editStats)) return 1;
-      if (!render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
+      return true;
+    };
+    std::vector<float> edits[3];
+    SsStats editsStats[3]{};
+    for (int e = 0; e < 3; ++e)
+      if (!setEdit(e) || !render(context, SS_METHOD_MATERIAL_EDIT, width, height, resolution, edits[e], editsStats[e]))
+        return 1;
+    if (!setEdit(-1) || !render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
+    std::printf("%s{\"set\": \"%s\", \"index\": %d, \"scene\": \"%s\",\n  \"precompute_ms\": %.1f, "
+                "\"precompute_fragments\": %llu, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f,\n"
+                "  \"precompute_stage_ms\": %s, \"full_stage_ms\": %s,\n"
+                "  \"edits\": [",
+                index == first ? "" : ",\n", subsplat::testing::setName(set), index, scene.description.c_str(),
+                precomputation.precompute_ms, (unsigned long long)fragments(precomputation), fullStats.frame_ms,
+                (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(precomputed, full),
+                stages(precomputation).c_str(), stages(fullStats).c_str());
+    for (int e = 0; e < 3; ++e) {
+      if (!setEdit(e) || !render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
+      const SsStats& s = editsStats[e];
       std::printf("%s\n    {\"edit\": \"%s\", \"reused\": %d, \"edit_ms\": %.1f, \"edit_fragments\": %llu, "
-                  "\"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f}",
-                  firstEdit ? "" : ",", names[e], editStats.transport_reused, editStats.frame_ms,
-                  (unsigned long long)fragments(editStats), fullStats.frame_ms,
-                  (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(edit, full));
-      firstEdit = false;
+                  "\"edit_light_views\": %d, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f}",
+                  e == 0 ? "" : ",", names[e], s.transport_reused, s.frame_ms, (unsigned long long)fragments(s),
+                  s.light_views, fullStats.frame_ms, (unsigned long long)fragments(fullStats),
+                  subsplat::testing::relativeRmse(edits[e], full));
       if (!images.empty())
         subsplat::testing::writeComparison(std::string(subsplat::testing::setName(set)) + "_" + std::to_string(index) +
                                                "_edit" + std::to_string(e),
-                                           edit, full, width, height);
-      // Each edit starts from the scene's own material, over the transport precomputed for it.
-      for (size_t m = 0; m < scene.materials.size(); ++m) ssSetMaterial(context, uint32_t(m), &scene.materials[m]);
+                                           edits[e], full, width, height);
     }
     std::printf("]}");
     std::fflush(stdout);
