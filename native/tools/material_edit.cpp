@@ -123,12 +123,12 @@ int main(int argc, char** argv) {
     if (!setEdit(-1) || !render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
     std::printf("%s{\"set\": \"%s\", \"index\": %d, \"scene\": \"%s\",\n  \"precompute_ms\": %.1f, "
                 "\"precompute_fragments\": %llu, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f,\n"
-                "  \"precompute_stage_ms\": %s, \"full_stage_ms\": %s,\n"
+                "  \"precompute_stage_ms\": %s, \"full_stage_ms\": %s, \"irradiance_resolution\": %d,\n"
                 "  \"edits\": [",
                 index == first ? "" : ",\n", subsplat::testing::setName(set), index, scene.description.c_str(),
                 precomputation.precompute_ms, (unsigned long long)fragments(precomputation), fullStats.frame_ms,
                 (unsigned long long)fragments(fullStats), subsplat::testing::relativeRmse(precomputed, full),
-                stages(precomputation).c_str(), stages(fullStats).c_str());
+                stages(precomputation).c_str(), stages(fullStats).c_str(), precomputation.irradiance_resolution);
     for (int e = 0; e < 3; ++e) {
       if (!setEdit(e) || !render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
       const SsStats& s = editsStats[e];
