@@ -2,6 +2,10 @@
 // every surface, shadowed by the view's irradiance buffer; and, for TABULATED
 // materials, the light that crossed a part to reach a surface the light does
 // not reach itself (material/transport_model.h: the slab's T(tau, mu0, mu)).
+// With keptThrough (MATERIAL_EDIT, pipeline/shading.h: Shading::keepThrough), that light is not
+// added: what it is before the slab's transmission goes to throughEntering (the entering light
+// times the exit's factors and the tint, and the thickness) and throughAngles (mu0, mu, 1), which
+// direct_through.frag turns into light for the materials as they are.
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_SPLATTING_ALBEDO) uniform sampler2D splattingAlbedo;
@@ -21,9 +25,12 @@ uniform int orthographic;
 uniform int resolution;
 uniform int unshadowedOutside;   // sun: surfaces outside the view are lit
 uniform int transmission;        // some material is TABULATED
+uniform int keptThrough;
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(location = 0) out vec4 radiance;
+layout(location = 1) out vec4 throughEntering;
+layout(location = 2) out vec4 throughAngles;
 float ggx(float nh, float alpha2) {
   float d = nh * nh * (alpha2 - 1.0) + 1.0;
   return alpha2 / (PI * d * d);
@@ -33,8 +40,10 @@ float smithG1(float nv, float alpha2) {
 }
 
 // Through a part: the light entered where this view's light first meets the object (the
-// irradiance buffer's texel over p) and crossed the thickness between there and p.
-vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t) {
+// irradiance buffer's texel over p) and crossed the thickness between there and p. With
+// keptThrough, what it is before the slab's transmission goes to throughEntering (times tint) and
+// throughAngles instead (and it returns 0; else the caller multiplies by tint).
+vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t, vec3 tint) {
   vec4 pe = texelFetch(irradiancePositionMaterial, t, 0);
   vec4 ne = texelFetch(irradianceNormalObject, t, 0);
   if (pe.w < 0.0 || ne.w != object || !isTabulated(int(pe.w))) return vec3(0.0);
@@ -45,11 +54,18 @@ vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t) {
   vec3 entering = (lightAreaCorners > 0 ? surfaceIrradiance(pe.xyz, ne.xyz) : irradianceFacingLight(pe.xyz) * mu0) *
                   lightWeight(ne.xyz) * fresnelTransmittance(materials[m].optics.x, mu0) * entryDepth.g;
   float thickness = max(depth - entryDepth.r, 0.0) * mu0;  // along the entry's normal
-  return entering * transmittedRadiance(m, thickness * materials[m].extinction.rgb, mu0, mu) *
-         fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
+  float leaving = fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
+  if (keptThrough != 0) {
+    throughEntering = vec4(entering * leaving * tint, thickness);
+    throughAngles = vec4(mu0, mu, 1.0, 0.0);
+    return vec3(0.0);
+  }
+  return entering * transmittedRadiance(m, thickness * materials[m].extinction.rgb, mu0, mu) * leaving;
 }
 
 void main() {
+  throughEntering = vec4(0.0);
+  throughAngles = vec4(0.0);
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec4 po = texelFetch(splattingPositionObject, pixel, 0);
   if (po.w < 0.0) discard;
@@ -96,7 +112,7 @@ void main() {
     vec2 q = c.xy / c.w;
     if (c.w > 0.0 && all(lessThan(abs(q), vec2(1.0))))
       through = transmitted(p, n, m, po.w, V, clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0),
-                                                        ivec2(resolution - 1))) * tint;
+                                                        ivec2(resolution - 1)), tint) * tint;
   }
   float nsl = dot(ns, L);
   if (nl <= 0.0 || nsl <= 0.0) {

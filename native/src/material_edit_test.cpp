@@ -99,51 +99,46 @@ TEST_F(MaterialEdit, ThreeSuccessiveEditsMatchFull) {
   }
 }
 
-// An edit that changes nothing the direct light reads (a dipole material's absorption) keeps the
-// direct light of the render before it and draws no light view; its image is the one an edit that
-// draws the direct light again gives. A change of the specular level, a TABULATED material's
-// absorption (its direct light crosses thin parts) or a render of another method draws it again.
+// An edit that changes nothing the direct light reads but the absorption keeps the direct light of
+// the render before it and draws no light view, under each model (TABULATED's light through thin
+// parts is evaluated again for the edited material: Tabulated.AnEditsLightThroughAThinSlab...); its
+// image is the one an edit that draws the direct light again gives. A change of the specular
+// level or a render of another method in between draws it again.
 TEST_F(MaterialEdit, AnAbsorptionEditKeepsTheDirectLight) {
   testing::Sphere sphere;
-  SsMaterialDesc material = preset("Skin1", SS_PROFILE_DIPOLE);
-  ASSERT_EQ(testing::setLitSphere(context, sphere, material), SS_OK) << ssGetLastError();
-  SsStats stats{};
-  render(SS_METHOD_MATERIAL_EDIT, &stats);
-  int views = stats.light_views;
-  ASSERT_GT(views, 0);
-  SsMaterialDesc absorbing = material, shiny = material;
-  for (float& a : absorbing.sigma_a) a *= 2.0f;
-  shiny.specular = 0.9f;
-  ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
-  std::vector<float> kept = render(SS_METHOD_MATERIAL_EDIT, &stats);
-  EXPECT_EQ(stats.transport_reused, 1);
-  EXPECT_EQ(stats.light_views, 0) << "the absorption edit drew the direct light again";
-  ASSERT_EQ(ssSetMaterial(context, 0, &shiny), SS_OK);
-  render(SS_METHOD_MATERIAL_EDIT, &stats);
-  EXPECT_EQ(stats.transport_reused, 1);
-  EXPECT_EQ(stats.light_views, views) << "the specular edit kept the direct light";
-  ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
-  std::vector<float> drawn = render(SS_METHOD_MATERIAL_EDIT, &stats);
-  EXPECT_EQ(stats.light_views, views);
-  double difference = testing::relativeRmse(kept, drawn);
-  std::printf("kept against drawn direct light: relative RMSE %.2g\n", difference);
-  if (difference > 1e-6) testing::writeComparison("material_edit_kept_direct", kept, drawn, kSize, kSize);
-  EXPECT_LE(difference, 1e-6);
-  // Another method's render leaves its own direct light; the next edit draws it again.
-  render(SS_METHOD_FULL);
-  ASSERT_EQ(ssSetMaterial(context, 0, &material), SS_OK);
-  render(SS_METHOD_MATERIAL_EDIT, &stats);
-  EXPECT_EQ(stats.transport_reused, 1);
-  EXPECT_EQ(stats.light_views, views) << "an edit after FULL kept FULL's direct light";
-  // TABULATED: the direct light depends on the absorption.
-  SsMaterialDesc tabulated = preset("Skin1", SS_PROFILE_TABULATED);
-  ASSERT_EQ(ssSetMaterial(context, 0, &tabulated), SS_OK);
-  render(SS_METHOD_MATERIAL_EDIT, &stats);
-  for (float& a : tabulated.sigma_a) a *= 2.0f;
-  ASSERT_EQ(ssSetMaterial(context, 0, &tabulated), SS_OK);
-  render(SS_METHOD_MATERIAL_EDIT, &stats);
-  EXPECT_EQ(stats.transport_reused, 1);
-  EXPECT_EQ(stats.light_views, views) << "a TABULATED absorption edit kept the direct light";
+  for (int model : {SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED}) {
+    SsMaterialDesc material = preset("Skin1", model);
+    ASSERT_EQ(testing::setLitSphere(context, sphere, material), SS_OK) << ssGetLastError();
+    SsStats stats{};
+    render(SS_METHOD_MATERIAL_EDIT, &stats);
+    int views = stats.light_views;
+    ASSERT_GT(views, 0);
+    SsMaterialDesc absorbing = material, shiny = material;
+    for (float& a : absorbing.sigma_a) a *= 2.0f;
+    shiny.specular = 0.9f;
+    ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
+    std::vector<float> kept = render(SS_METHOD_MATERIAL_EDIT, &stats);
+    EXPECT_EQ(stats.transport_reused, 1);
+    EXPECT_EQ(stats.light_views, 0) << "the absorption edit drew the direct light again";
+    ASSERT_EQ(ssSetMaterial(context, 0, &shiny), SS_OK);
+    render(SS_METHOD_MATERIAL_EDIT, &stats);
+    EXPECT_EQ(stats.transport_reused, 1);
+    EXPECT_EQ(stats.light_views, views) << "the specular edit kept the direct light";
+    ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
+    std::vector<float> drawn = render(SS_METHOD_MATERIAL_EDIT, &stats);
+    EXPECT_EQ(stats.light_views, views);
+    double difference = testing::relativeRmse(kept, drawn);
+    std::printf("model %d: kept against drawn direct light: relative RMSE %.2g\n", model, difference);
+    if (difference > 1e-6)
+      testing::writeComparison("material_edit_kept_direct_" + std::to_string(model), kept, drawn, kSize, kSize);
+    EXPECT_LE(difference, 1e-6);
+    // Another method's render leaves its own direct light; the next edit draws it again.
+    render(SS_METHOD_FULL);
+    ASSERT_EQ(ssSetMaterial(context, 0, &material), SS_OK);
+    render(SS_METHOD_MATERIAL_EDIT, &stats);
+    EXPECT_EQ(stats.transport_reused, 1);
+    EXPECT_EQ(stats.light_views, views) << "an edit after FULL kept FULL's direct light";
+  }
 }
 
 // The precomputation's splatting work against FULL's on the sphere (one splatting level): the far

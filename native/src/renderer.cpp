@@ -255,10 +255,12 @@ void Renderer::render(int width, int height, float* rgba) {
   // Going on with one sample, the direct light is the first render's (anti-aliasing's other
   // samples draw theirs into the same buffer, so with them every render draws it again).
   // A material edit that leaves what the direct light reads as it was keeps the direct light of
-  // the render before it (the precomputation's, or an edit's), and draws no light view.
+  // the render before it (the precomputation's, or an edit's), and draws no light view. With
+  // TABULATED materials, only where that render kept the light they send through thin parts.
   std::vector<double> directSignature;
   if (editing && samples == 1 && settings_.first_sample == 0) directSignature = this->directSignature();
-  bool keptDirect = reuse && directKept_ && !directSignature.empty() && directSignature == directKeptFor_;
+  bool keptDirect = reuse && directKept_ && !directSignature.empty() && directSignature == directKeptFor_ &&
+                    (!scene_.tabulated() || directThroughKept_);
   directKept_ = keptDirect;  // until this render succeeds
   bool reuseDirect = (resuming && samples == 1) || keptDirect;
   if (!reuseDirect) shading_.clear();
@@ -328,6 +330,11 @@ void Renderer::render(int width, int height, float* rgba) {
     if (soft && !sun) inputs.softDepth = softMap_.lightDepth();
     return inputs;
   };
+  // The light TABULATED materials' direct light sends through thin parts, kept per view for the
+  // edits that keep the direct light (Shading::keepThrough), within its memory.
+  bool keptThrough = keptDirect ? directThroughKept_
+                                : !directSignature.empty() && scene_.tabulated() && !translucent.empty() &&
+                                      shading_.keepThrough(int(views.size()));
   // A render that reuses MATERIAL_EDIT's transport reads the precomputation's shadow maps: it draws
   // no light view the copies' budget kept (docs/MATERIAL_EDIT.md, "An edit").
   ShadowCopies& copies = editing ? editShadows_ : shadowCopies_;
@@ -366,7 +373,7 @@ void Renderer::render(int width, int height, float* rgba) {
     }
     if (!reuseDirect) {
       profiler.begin(SS_STAGE_SHADING);
-      shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport);
+      shading_.directLighting(scene_, view, inputs, splatting_, kernels.transport, keptThrough ? int(i) : -1);
       profiler.end();
     }
     ++stats_.light_views;
@@ -390,6 +397,7 @@ void Renderer::render(int width, int height, float* rgba) {
   const GLuint exitanceTexture = editing ? transport_.exitance() : splats_.exitance();
   float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
+  if (keptThrough) shading_.addKeptThrough(splatting_, kernels.transport);
   shading_.finalShading(scene_, splatting_, exitanceTexture, kernels.transport, settings_.background, environment,
                         lights, samples > 1 ? weight : 1.0f, true);
   profiler.end();
@@ -446,7 +454,11 @@ void Renderer::render(int width, int height, float* rgba) {
   countCoverage(width, height, rgba, exitanceTexture);
   stats_.width = width;
   stats_.height = height;
-  if (!directSignature.empty()) directKept_ = true, directKeptFor_ = std::move(directSignature);
+  if (!directSignature.empty()) {
+    directKept_ = true;
+    directKeptFor_ = std::move(directSignature);
+    directThroughKept_ = keptThrough;
+  }
   bool complete = !budgeted || translucent.empty() || resume.view >= views.size();
   stats_.splatting_complete = complete ? 1 : 0;
   if (!complete) {  // views done, and of the view under way its levels done and its level's share
@@ -531,10 +543,6 @@ std::vector<double> Renderer::directSignature() const {
     signature.insert(signature.end(), {double(d.kind), d.base_color[0], d.base_color[1], d.base_color[2], d.eta,
                                        d.mm_per_unit, d.roughness, d.specular, double(d.profile_model),
                                        d.normal_strength});
-    if (d.kind != SS_MATERIAL_OPAQUE && (d.profile_model != SS_PROFILE_DIPOLE || m.transport)) {  // TABULATED
-      signature.insert(signature.end(), std::begin(d.sigma_a), std::end(d.sigma_a));
-      signature.insert(signature.end(), std::begin(d.sigma_s_prime), std::end(d.sigma_s_prime));
-    }
     texture(m.color);
     texture(m.normal);
   }

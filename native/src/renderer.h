@@ -122,12 +122,13 @@ class Renderer {
   // The direct light in shading_ as the last render left it, when that render was MATERIAL_EDIT's
   // with one unjittered sample: the precomputation's camera, lights and meshes, and materials of
   // signature directKeptFor_ (directSignature). An edit that changes none of what the direct light
-  // reads (a DIPOLE-model material's absorption or scattering) draws no light view.
-  bool directKept_ = false;
+  // reads but a material's absorption and scattering draws no light view. With TABULATED
+  // materials, whose direct light sends light through thin parts, only if that render kept that
+  // light before the slab's transmission (directThroughKept_: Shading::keepThrough).
+  bool directKept_ = false, directThroughKept_ = false;
   std::vector<double> directKeptFor_;
-  // What the direct light reads of the materials (direct_lighting.frag): every field but the
-  // absorption and scattering of materials whose model is not TABULATED (whose direct light sends
-  // light through thin parts), and the textures' images by identity.
+  // What the direct light reads of the materials (direct_lighting.frag), but the absorption and
+  // scattering: every field, and the textures' images by identity.
   std::vector<double> directSignature() const;
   bool transportServes(int width, int height) const;
   // What the transport splatted this render was precomputed for (camera: the host's).

@@ -127,6 +127,36 @@ TEST_F(Tabulated, LightThroughAThinSlabIsTheSlabsTransmission) {
   }
 }
 
+// MATERIAL_EDIT (docs/MATERIAL_EDIT.md, "An edit"): the transport and the light through thin parts
+// precomputed for the slab with twice the absorption, then the slab's own material as an edit,
+// which draws no light view: the light through is evaluated again from what each view kept of it
+// before the slab's transmission, and is the edited slab's T(tau, 1, 1), as above.
+TEST_F(Tabulated, AnEditsLightThroughAThinSlabIsTheEditedSlabsTransmission) {
+  SsMaterialDesc m = medium(true, 20.0f);
+  SsMaterialDesc absorbing = m;
+  for (float& a : absorbing.sigma_a) a *= 2.0f;
+  double sigmaT = m.sigma_a[1] + m.sigma_s_prime[1];  // per mm, green
+  for (double tau : {0.5, 2.0}) {
+    float thickness = float(tau / sigmaT / 20.0);  // scene units
+    setBox(absorbing, thickness);
+    SsLightDesc sun = testing::sunLight(3.0f, 180.0f);  // from below
+    ASSERT_EQ(ssSetLights(context, &sun, 1), SS_OK);
+    render(SS_METHOD_MATERIAL_EDIT, 16);
+    ASSERT_EQ(ssSetMaterial(context, 0, &m), SS_OK);
+    Image image = render(SS_METHOD_MATERIAL_EDIT, 16);
+    SsStats stats{};
+    ASSERT_EQ(ssGetStats(context, &stats), SS_OK);
+    EXPECT_EQ(stats.transport_reused, 1);
+    EXPECT_EQ(stats.light_views, 0) << "the edit drew the light views again";
+    for (int c = 0; c < 3; ++c) {
+      double t = thickness * 20.0 * (m.sigma_a[c] + m.sigma_s_prime[c]);
+      SlabSolution s = solveSlabByAddingDoubling(albedo(m, c), t, 1.0);
+      double exact = 3.0 * s.transmittedRadiance.back();  // the node nearest mu = 1
+      EXPECT_NEAR(image.centreMean(c, 0.5) / exact, 1.0, 0.03) << "tau " << tau << " channel " << c;
+    }
+  }
+}
+
 // The same slab lit from below at 60 degrees: the light crosses 2 x the thickness, and the slab
 // transmits S mu0 T(tau, mu0, 1) of a slab tau thick (the table's slabs are in normal thickness).
 // Within 5 %: mu0 = 0.5 lies between the table's cosines, where T is interpolated (within 7 % of

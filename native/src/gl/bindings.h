@@ -51,7 +51,8 @@
   X(UNIT_COARSE_TRANSPORT, 32, GL_TEXTURE_2D_ARRAY)           \
   X(UNIT_NEAR_TRANSPORT, 33, GL_TEXTURE_2D_ARRAY)             \
   X(UNIT_FAR_TRANSPORT, 34, GL_TEXTURE_2D_ARRAY)              \
-  X(UNIT_EDIT_FACTORS, 35, GL_TEXTURE_2D)
+  X(UNIT_EDIT_FACTORS, 35, GL_TEXTURE_2D)                     \
+  X(UNIT_KEPT_THROUGH, 36, GL_TEXTURE_2D_ARRAY)
 
 // X(name, unit): image units, which the hierarchies' reductions write the coarser level through.
 #define SUBSPLAT_IMAGE_UNITS(X)              \

@@ -237,6 +237,21 @@ Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint 
   return framebuffer;
 }
 
+Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int first, int layers) {
+  GLuint id = 0;
+  glGenFramebuffers(1, &id);
+  Framebuffer framebuffer(id);
+  glBindFramebuffer(GL_FRAMEBUFFER, id);
+  glFramebufferTexture(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0);
+  std::vector<GLenum> drawBuffers{GL_COLOR_ATTACHMENT0};
+  for (int l = 0; l < layers; ++l) {
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1 + GLenum(l), arrayTexture, 0, first + l);
+    drawBuffers.push_back(GL_COLOR_ATTACHMENT1 + GLenum(l));
+  }
+  completeFramebuffer(drawBuffers);
+  return framebuffer;
+}
+
 Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers) {
   GLuint id = 0;
   glGenFramebuffers(1, &id);

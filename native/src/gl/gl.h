@@ -134,6 +134,9 @@ VertexArray makeVertexArray();
 Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture);
 // Layers 0 .. layers - 1 of a 2D array texture as colour attachments 0 .. layers - 1.
 Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers);
+// A 2D texture as colour attachment 0, then layers first .. first + layers - 1 of a 2D array
+// texture as attachments 1 .. layers.
+Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int first, int layers);
 // Compiles and links shaders by name from the embedded table (shaders/*.glsl);
 // throws with the info log on failure.
 Program makeProgram(const std::string& vertex, const std::string& geometry,

@@ -8,6 +8,7 @@ void Shading::resize(int width, int height) {
   if (!directProgram_) {
     directProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag");
     finalProgram_ = gl::makeProgram("fullscreen.vert", "", "final_shading.frag");
+    throughProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_through.frag");
     empty_ = gl::makeVertexArray();
   }
   if (width == width_ && height == height_) return;
@@ -16,6 +17,12 @@ void Shading::resize(int width, int height) {
   resultFramebuffer_.reset();
   direct_.reset();
   result_.reset();
+  throughFramebuffers_.clear();
+  throughDirectFramebuffer_.reset();
+  through_.reset();
+  throughDirect_.reset();
+  throughViews_ = 0;
+  readThroughDirect_ = false;
   direct_ = gl::makeTexture2D(GL_RGBA32F, width, height);
   result_ = gl::makeTexture2D(GL_RGBA32F, width, height);
   directFramebuffer_ = gl::makeFramebuffer({direct_.id()}, 0);
@@ -28,11 +35,53 @@ void Shading::clear() {
   glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
+  readThroughDirect_ = false;
+}
+
+bool Shading::keepThrough(int views) {
+  uint64_t bytes = uint64_t(width_) * uint64_t(height_) * 32u * uint64_t(views);
+  if (views <= 0 || bytes > kKeptThroughBytes) return false;
+  if (views != throughViews_) {
+    throughFramebuffers_.clear();
+    through_ = gl::makeTexture2DArray(GL_RGBA32F, width_, height_, 2 * views);
+    for (int v = 0; v < views; ++v)
+      throughFramebuffers_.push_back(gl::makeFramebufferWithLayers(direct_.id(), through_.id(), 2 * v, 2));
+    if (!throughDirect_) {
+      throughDirect_ = gl::makeTexture2D(GL_RGBA32F, width_, height_);
+      throughDirectFramebuffer_ = gl::makeFramebuffer({throughDirect_.id()}, 0);
+    }
+    throughViews_ = views;
+  }
+  const float zero[4] = {0, 0, 0, 0};
+  for (const gl::Framebuffer& f : throughFramebuffers_) {
+    glBindFramebuffer(GL_FRAMEBUFFER, f.id());
+    glClearBufferfv(GL_COLOR, 1, zero);
+    glClearBufferfv(GL_COLOR, 2, zero);
+  }
+  return true;
+}
+
+void Shading::addKeptThrough(const SplattingBuffer& splatting, GLuint transportTables) {
+  glBindFramebuffer(GL_FRAMEBUFFER, throughDirectFramebuffer_.id());
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_BLEND);
+  GLuint p = throughProgram_.id();
+  glUseProgram(p);
+  glUniform1i(uniform(p, "views"), throughViews_);
+  setTransportUniforms(p, transportTables);
+  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
+  bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  bindTexture(gl::UNIT_KEPT_THROUGH, GL_TEXTURE_2D_ARRAY, through_.id());
+  glBindVertexArray(empty_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  readThroughDirect_ = true;
 }
 
 void Shading::directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
-                             const SplattingBuffer& splatting, GLuint transportTables) {
-  glBindFramebuffer(GL_FRAMEBUFFER, directFramebuffer_.id());
+                             const SplattingBuffer& splatting, GLuint transportTables, int keptView) {
+  bool kept = keptView >= 0 && keptView < throughViews_;
+  glBindFramebuffer(GL_FRAMEBUFFER, kept ? throughFramebuffers_[size_t(keptView)].id() : directFramebuffer_.id());
   glViewport(0, 0, width_, height_);
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
@@ -53,6 +102,7 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   bindTexture(gl::UNIT_SOFT_DEPTH, GL_TEXTURE_2D, shadow.softDepth ? shadow.softDepth : shadow.lightDepth);
   glUniform1i(uniform(p, "shadowResolution"), shadow.shadowResolution);
   glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
+  glUniform1i(uniform(p, "keptThrough"), kept ? 1 : 0);
   if (scene.tabulated()) {
     bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, shadow.positionMaterial);
     bindTexture(gl::UNIT_IRRADIANCE_NORMAL_OBJECT, GL_TEXTURE_2D, shadow.normalObject);
@@ -104,7 +154,7 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   bindTexture(gl::UNIT_SPLATTING_ALBEDO, GL_TEXTURE_2D, splatting.albedo());
   bindTexture(gl::UNIT_SPLATTING_SHADING_NORMAL, GL_TEXTURE_2D, splatting.shadingNormal());
   bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, exitance);
-  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, direct_.id());
+  bindTexture(gl::UNIT_DIRECT_RADIANCE, GL_TEXTURE_2D, readThroughDirect_ ? throughDirect_.id() : direct_.id());
   setTransportUniforms(p, transportTables);
   glBindVertexArray(empty_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
