@@ -21,10 +21,13 @@ class MaterialEdit : public ::testing::Test {
   static constexpr int kSize = 48;
   void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
   void TearDown() override { ssReleaseContext(context); }
-  std::vector<float> render(int method, SsStats* stats = nullptr, int size = kSize, int resolution = 64) {
+  // levels: SsSettings.levels (0: chosen from the scene).
+  std::vector<float> render(int method, SsStats* stats = nullptr, int size = kSize, int resolution = 64,
+                            int levels = 0) {
     SsSettings settings = ssDefaultSettings();
     settings.method = method;
     settings.irradiance_resolution = resolution;
+    settings.levels = levels;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     std::vector<float> rgba(size_t(size) * size * 4);
     EXPECT_EQ(ssRender(context, size, size, rgba.data()), SS_OK) << ssGetLastError();
@@ -150,19 +153,9 @@ TEST_F(MaterialEdit, PrecomputationSplatsLittleMoreThanFull) {
   testing::Sphere sphere;
   for (int model : {SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED}) {
     ASSERT_EQ(testing::setLitSphere(context, sphere, preset("Skin1", model)), SS_OK) << ssGetLastError();
-    SsStats stats[2]{};
-    for (int method : {SS_METHOD_MATERIAL_EDIT, SS_METHOD_FULL}) {
-      SsSettings settings = ssDefaultSettings();
-      settings.method = method;
-      settings.irradiance_resolution = 64;
-      settings.levels = 1;
-      ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
-      std::vector<float> rgba(size_t(kSize) * kSize * 4);
-      ASSERT_EQ(ssRender(context, kSize, kSize, rgba.data()), SS_OK) << ssGetLastError();
-      ASSERT_EQ(ssGetStats(context, &stats[method == SS_METHOD_FULL]), SS_OK);
-    }
-    const SsStats& precomputation = stats[0];
-    const SsStats& full = stats[1];
+    SsStats precomputation{}, full{};
+    render(SS_METHOD_MATERIAL_EDIT, &precomputation, kSize, 64, 1);
+    render(SS_METHOD_FULL, &full, kSize, 64, 1);
     ASSERT_EQ(precomputation.transport_reused, 0);
     double ratio = double(precomputation.fragment_invocations[SS_STAGE_SPLATTING]) /
                    double(full.fragment_invocations[SS_STAGE_SPLATTING]);
