@@ -21,13 +21,14 @@ class MaterialEdit : public ::testing::Test {
   static constexpr int kSize = 48;
   void SetUp() override { ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError(); }
   void TearDown() override { ssReleaseContext(context); }
-  // levels: SsSettings.levels (0: chosen from the scene).
+  // levels, shadows: SsSettings.levels and shadow_resolution (0: chosen from the scene).
   std::vector<float> render(int method, SsStats* stats = nullptr, int size = kSize, int resolution = 64,
-                            int levels = 0) {
+                            int levels = 0, int shadows = 0) {
     SsSettings settings = ssDefaultSettings();
     settings.method = method;
     settings.irradiance_resolution = resolution;
     settings.levels = levels;
+    settings.shadow_resolution = shadows;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     std::vector<float> rgba(size_t(size) * size * 4);
     EXPECT_EQ(ssRender(context, size, size, rgba.data()), SS_OK) << ssGetLastError();
@@ -142,6 +143,47 @@ TEST_F(MaterialEdit, AnAbsorptionEditKeepsTheDirectLight) {
     EXPECT_EQ(stats.transport_reused, 1);
     EXPECT_EQ(stats.light_views, views) << "an edit after FULL kept FULL's direct light";
   }
+}
+
+// Keeping TABULATED's light through thin parts is a saving, not a need: where the memory budget
+// has room for the precomputation but not for that light, the precomputation still succeeds and
+// the edit draws the light views again (and still matches).
+TEST_F(MaterialEdit, NoRoomForTheKeptLightThroughDrawsTheViewsAgain) {
+  constexpr int kWide = 160;
+  testing::Sphere sphere;
+  SsMaterialDesc material = preset("Skin1", SS_PROFILE_TABULATED), absorbing = material;
+  for (float& a : absorbing.sigma_a) a *= 2.0f;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, material), SS_OK) << ssGetLastError();
+  SsStats stats{};
+  render(SS_METHOD_MATERIAL_EDIT, &stats, kWide, 64, 0, 64);
+  uint64_t used = 0, budget = 0;
+  ASSERT_EQ(ssGetMemoryUsage(&used, &budget), SS_OK);
+  int views = stats.light_views;
+  ASSERT_GT(views, 0);
+  ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
+  std::vector<float> roomy = render(SS_METHOD_MATERIAL_EDIT, &stats, kWide, 64, 0, 64);
+  EXPECT_EQ(stats.light_views, 0);
+  // The same in a new context, with half of that light's memory (Shading::keepThrough: two RGBA32F
+  // layers a view, and one more image) missing from what the first precomputation held. (What it
+  // makes after that light, the shadow maps' copies, is smaller at 64² shadow maps.)
+  uint64_t through = uint64_t(kWide) * kWide * (32u * uint64_t(views) + 16u);
+  ssReleaseContext(context);
+  context = nullptr;
+  ASSERT_EQ(ssSetMemoryBudget(used - through / 2), SS_OK);
+  struct Restore {
+    ~Restore() { ssSetMemoryBudget(0); }
+  } restore;
+  ASSERT_EQ(ssNewContext(&context), SS_OK) << ssGetLastError();
+  ASSERT_EQ(testing::setLitSphere(context, sphere, material), SS_OK) << ssGetLastError();
+  render(SS_METHOD_MATERIAL_EDIT, &stats, kWide, 64, 0, 64);
+  EXPECT_EQ(stats.transport_reused, 0);
+  ASSERT_EQ(ssSetMaterial(context, 0, &absorbing), SS_OK);
+  std::vector<float> tight = render(SS_METHOD_MATERIAL_EDIT, &stats, kWide, 64, 0, 64);
+  EXPECT_EQ(stats.transport_reused, 1);
+  EXPECT_EQ(stats.light_views, views) << "the edit kept a light through it had no room for";
+  double difference = testing::relativeRmse(roomy, tight);
+  std::printf("kept against drawn light through: relative RMSE %.2g\n", difference);
+  EXPECT_LT(difference, 1e-5);
 }
 
 // The precomputation's splatting work against FULL's on the sphere (one splatting level): the far

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <string>
+
 namespace subsplat {
 
 void Shading::resize(int width, int height) {
@@ -42,7 +44,16 @@ bool Shading::keepThrough(int views) {
   uint64_t bytes = uint64_t(width_) * uint64_t(height_) * 32u * uint64_t(views);
   if (views <= 0 || bytes > kKeptThroughBytes) return false;
   if (views != throughViews_) {
+    // Only within the memory budget: keeping this light is a saving, not a need (without it an
+    // edit draws the views again), so it never fails a render.
+    uint64_t more = bytes + (throughDirect_ ? 0 : uint64_t(width_) * uint64_t(height_) * 16u);
+    uint64_t held = gl::gpuBytes() - through_.bytes(), budget = gl::memoryBudget();
+    if (held > budget || more > budget - held) return false;
     throughFramebuffers_.clear();
+    through_.reset();
+    throughViews_ = 0;  // until the layers are made
+    gl::Purpose purpose("the light through thin parts kept for material edits (" + std::to_string(views) +
+                        " light views)");
     through_ = gl::makeTexture2DArray(GL_RGBA32F, width_, height_, 2 * views);
     for (int v = 0; v < views; ++v)
       throughFramebuffers_.push_back(gl::makeFramebufferWithLayers(direct_.id(), through_.id(), 2 * v, 2));
