@@ -252,7 +252,9 @@ typedef struct SsStats {
   uint64_t fragment_invocations[SS_STAGE_COUNT];
   uint64_t splat_count;                      /* translucent irradiance samples splatted (REFERENCE: surface samples) */
   int32_t width, height;
-  int32_t light_views;                       /* irradiance buffers rendered */
+  int32_t light_views;                       /* irradiance buffers rendered (a MATERIAL_EDIT edit: the
+                                                views whose direct light it drew, from the kept
+                                                shadow maps; 0 when it kept the direct light) */
   int32_t timers_available, statistics_available;
   uint64_t translucent_pixels;      /* pixels showing a translucent surface */
   uint64_t lit_translucent_pixels;  /* of those, with finite exitance > 0 */
