@@ -254,6 +254,35 @@ TEST_F(MaterialEdit, AnyChangeButTheMaterialPrecomputesAgain) {
   EXPECT_FALSE(reused("the camera moved"));
   EXPECT_TRUE(reused("nothing changed after the camera"));
   EXPECT_FALSE(reused("another size", 40));
+  EXPECT_FALSE(reused("the first size again"));
+  EXPECT_TRUE(reused("nothing changed after the size"));
+
+  // The light entering carries the colour texture's tint (sqrt T as it enters) and meets the
+  // normal map's normal: either changed precomputes again.
+  const std::vector<float> grey(2 * 2 * 3, 0.5f);
+  SsImageDesc imageDesc{2, 2, grey.data()};
+  SsImage image = nullptr;
+  ASSERT_EQ(ssNewImage(&imageDesc, &image), SS_OK) << ssGetLastError();
+  edited.color_texture.image = image;
+  ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK) << ssGetLastError();
+  EXPECT_FALSE(reused("a colour texture"));
+  EXPECT_TRUE(reused("nothing changed after the texture"));
+  edited.color_texture.transform[0] = 2.0f;
+  edited.color_texture.transform[4] = 2.0f;
+  ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);
+  EXPECT_FALSE(reused("the colour texture's mapping"));
+  edited.color_texture = SsTextureDesc{};
+  edited.normal_texture.image = image;
+  ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);
+  EXPECT_FALSE(reused("a normal map instead"));
+  edited.normal_strength = 0.5f;
+  ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);
+  EXPECT_FALSE(reused("the normal map's strength"));
+  EXPECT_EQ(ssReleaseImage(image), SS_OK);
+  edited.normal_texture = SsTextureDesc{};
+  edited.normal_strength = 0.0f;
+  ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);
+  EXPECT_FALSE(reused("no texture"));
 
   edited.eta = 1.4f;
   ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);

@@ -503,6 +503,7 @@ void Renderer::recordPrecomputation(int width, int height, int resolution, int l
       e.reach = std::min(kEditReach * e.range, double(TransportSplatting::kSupportGrowth) * m.kernel->supportRadius());
       DipoleMaterial medium = dipoleMaterial(m.desc);
       for (int c = 0; c < 3; ++c) e.eta[size_t(c)] = medium.channels[size_t(c)].eta;
+      e.entering = enteringSignature(m);
     }
     p.entries.push_back(e);
   }
@@ -526,25 +527,39 @@ bool Renderer::transportServes(int width, int height) const {
     for (int c = 0; c < 3; ++c)
       if (medium.channels[size_t(c)].eta != e.eta[size_t(c)]) return false;
     if (m.kernel->mmPerUnit() != e.mmPerUnit || m.kernel->supportRadius() > e.reach) return false;
+    if (enteringSignature(m) != e.entering) return false;
   }
   return true;
 }
 
+namespace {
+
+// A texture's image (by identity) and how the mesh's UVs read it.
+void appendTexture(std::vector<double>& signature, const Texture& t) {
+  signature.push_back(double(reinterpret_cast<uintptr_t>(t.image.get())));
+  signature.insert(signature.end(), std::begin(t.transform), std::end(t.transform));
+  signature.push_back(t.extension);
+  signature.push_back(t.interpolation);
+}
+
+}  // namespace
+
+std::vector<double> Renderer::enteringSignature(const MaterialEntry& m) {
+  std::vector<double> signature{double(m.desc.normal_strength)};
+  appendTexture(signature, m.color);
+  appendTexture(signature, m.normal);
+  return signature;
+}
+
 std::vector<double> Renderer::directSignature() const {
   std::vector<double> signature;
-  auto texture = [&](const Texture& t) {
-    signature.push_back(double(reinterpret_cast<uintptr_t>(t.image.get())));
-    signature.insert(signature.end(), std::begin(t.transform), std::end(t.transform));
-    signature.push_back(t.extension);
-    signature.push_back(t.interpolation);
-  };
   for (const MaterialEntry& m : scene_.denseMaterials()) {
     const SsMaterialDesc& d = m.desc;
     signature.insert(signature.end(), {double(d.kind), d.base_color[0], d.base_color[1], d.base_color[2], d.eta,
                                        d.mm_per_unit, d.roughness, d.specular, double(d.profile_model),
                                        d.normal_strength});
-    texture(m.color);
-    texture(m.normal);
+    appendTexture(signature, m.color);
+    appendTexture(signature, m.normal);
   }
   return signature;
 }

@@ -115,6 +115,8 @@ class Renderer {
       double range = 0.0, mmPerUnit = 1.0;  // R_P (the longest channel's), scene units
       double reach = 0.0;  // how far the transport was splatted, scene units (kSupportGrowth)
       std::array<double, 3> eta{};
+      // What the entering light carries besides the index of refraction (enteringSignature).
+      std::vector<double> entering;
     };
     std::vector<Entry> entries;
   };
@@ -130,6 +132,10 @@ class Renderer {
   // What the direct light reads of the materials (direct_lighting.frag), but the absorption and
   // scattering: every field, and the textures' images by identity.
   std::vector<double> directSignature() const;
+  // What the light entering a translucent entry carries in the irradiance buffers, and so in the
+  // transport, besides the index of refraction (irradiance_buffer.frag): the colour texture's tint
+  // and the normal map's normal.
+  static std::vector<double> enteringSignature(const MaterialEntry& m);
   bool transportServes(int width, int height) const;
   // What the transport splatted this render was precomputed for (camera: the host's).
   void recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,
