@@ -545,7 +545,7 @@ void appendTexture(std::vector<double>& signature, const Texture& t) {
 }  // namespace
 
 std::vector<double> Renderer::enteringSignature(const MaterialEntry& m) {
-  std::vector<double> signature{double(m.desc.normal_strength)};
+  std::vector<double> signature{double(m.desc.normal_strength), double(m.desc.profile_model)};
   appendTexture(signature, m.color);
   appendTexture(signature, m.normal);
   return signature;

@@ -134,7 +134,8 @@ class Renderer {
   std::vector<double> directSignature() const;
   // What the light entering a translucent entry carries in the irradiance buffers, and so in the
   // transport, besides the index of refraction (irradiance_buffer.frag): the colour texture's tint
-  // and the normal map's normal.
+  // and the normal map's normal; and the profile model, whose incidence factor and side weight
+  // (TABULATED) the precomputation splats.
   static std::vector<double> enteringSignature(const MaterialEntry& m);
   bool transportServes(int width, int height) const;
   // What the transport splatted this render was precomputed for (camera: the host's).
