@@ -237,7 +237,7 @@ TEST_F(MaterialEdit, AnyChangeButTheMaterialPrecomputesAgain) {
   EXPECT_TRUE(reused("a material edit"));
   // The TABULATED model's incidence factor and side weight are in the transport: recombined after
   // a switch of the model, Skin1 on the lit sphere was 17 % (DIPOLE to TABULATED) and 1.1 % (back)
-  // off FULL's image.
+  // off FULL's image (a scratch measurement, docs/MATERIAL_EDIT.md).
   edited.profile_model = SS_PROFILE_DIPOLE;
   ASSERT_EQ(ssSetMaterial(context, 0, &edited), SS_OK);
   EXPECT_FALSE(reused("another profile model"));
