@@ -556,10 +556,9 @@ std::vector<double> Renderer::directSignature() const {
   for (const MaterialEntry& m : scene_.denseMaterials()) {
     const SsMaterialDesc& d = m.desc;
     signature.insert(signature.end(), {double(d.kind), d.base_color[0], d.base_color[1], d.base_color[2], d.eta,
-                                       d.mm_per_unit, d.roughness, d.specular, double(d.profile_model),
-                                       d.normal_strength});
-    appendTexture(signature, m.color);
-    appendTexture(signature, m.normal);
+                                       d.mm_per_unit, d.roughness, d.specular});
+    std::vector<double> entering = enteringSignature(m);  // the profile model, normal map and textures
+    signature.insert(signature.end(), entering.begin(), entering.end());
   }
   return signature;
 }

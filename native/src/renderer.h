@@ -130,7 +130,7 @@ class Renderer {
   bool directKept_ = false, directThroughKept_ = false;
   std::vector<double> directKeptFor_;
   // What the direct light reads of the materials (direct_lighting.frag), but the absorption and
-  // scattering: every field, and the textures' images by identity.
+  // scattering: every field, and (enteringSignature) the textures' images by identity.
   std::vector<double> directSignature() const;
   // What the light entering a translucent entry carries in the irradiance buffers, and so in the
   // transport, besides the index of refraction (irradiance_buffer.frag): the colour texture's tint
