@@ -46,7 +46,8 @@ void Renderer::setCamera(const SsCameraDesc& camera) {
 void Renderer::setSettings(const SsSettings& s) {
   resume_.valid = false;
   require(s.method == SS_METHOD_BRUTE || s.method == SS_METHOD_MULTIRES || s.method == SS_METHOD_ADAPTIVE ||
-              s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE || s.method == SS_METHOD_MATERIAL_EDIT,
+              s.method == SS_METHOD_FULL || s.method == SS_METHOD_REFERENCE || s.method == SS_METHOD_MATERIAL_EDIT ||
+              s.method == SS_METHOD_PRECOMPUTED,
           "unknown method " + std::to_string(s.method));
   require(std::isfinite(s.epsilon) && s.epsilon >= 0.0f && s.epsilon <= 0.5f,
           "epsilon must be 0 (the default) or in (0, 0.5], got " + std::to_string(s.epsilon));
@@ -154,7 +155,7 @@ void Renderer::render(int width, int height, float* rgba) {
   // A budgeted render goes on where the last stopped when nothing changed since (the buffers and
   // the splatted levels are as it left them); it is invalid again until this one succeeds.
   bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments() &&
-                  settings_.method != SS_METHOD_MATERIAL_EDIT;
+                  settings_.method != SS_METHOD_MATERIAL_EDIT && settings_.method != SS_METHOD_PRECOMPUTED;
   Resume resume = std::move(resume_);
   resume_ = Resume{};
   bool resuming = budgeted && resume.valid && resume.width == width && resume.height == height;
@@ -186,6 +187,9 @@ void Renderer::render(int width, int height, float* rgba) {
   // resolution and levels (its direct light as the precomputation's), and needs no splat kernels.
   scene_.resolveMaterials();
   bool editing = settings_.method == SS_METHOD_MATERIAL_EDIT && !scene_.heterogeneous();
+  // PRECOMPUTED (docs/PRECOMPUTED.md): FULL's buffers and direct light, its exitance relit from the
+  // transport precomputed for these meshes and materials (precomputed again when they changed).
+  const bool relit = settings_.method == SS_METHOD_PRECOMPUTED;
   bool reuse = editing && transportServes(width, height);
   if (editing && !reuse) precomputed_.valid = false;
   uploadMaterials(!reuse);
@@ -361,7 +365,9 @@ void Renderer::render(int width, int height, float* rgba) {
       if (adaptive && !reuse) irradiance_.buildHierarchy();
       profiler.end();
     }
-    if (!translucent.empty() && editing) {
+    if (relit) {
+      // no splats: the exitance is the precomputed transport's
+    } else if (!translucent.empty() && editing) {
       if (!reuse) transport_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
     } else if (!translucent.empty() && !budgeted) {
       splats_.splat(scene_, view, irradiance_, splatting_, kernels, selection, profiler);
@@ -390,11 +396,13 @@ void Renderer::render(int width, int height, float* rgba) {
     profiler.begin(SS_STAGE_SHADING);
     transport_.combine(splatting_, editCoefficients(), kernels.transport);
     profiler.end();
+  } else if (relit) {
+    renderPrecomputed(width, height);
   } else if (!translucent.empty()) {  // (one level: only keeps the debug copy)
     splats_.accumulate(scene_, splatting_, accumulation, profiler, budgeted);
     stats_.splat_count = splats_.readSelectionCounts(stats_.selected_per_level);
   }
-  const GLuint exitanceTexture = editing ? transport_.exitance() : splats_.exitance();
+  const GLuint exitanceTexture = relit ? precomputedDisplay_.exitance() : editing ? transport_.exitance() : splats_.exitance();
   float weight = 1.0f / float(samples);
   profiler.begin(SS_STAGE_SHADING);
   if (keptThrough) shading_.addKeptThrough(splatting_, kernels.transport);
@@ -474,7 +482,7 @@ void Renderer::render(int width, int height, float* rgba) {
   }
   stats_.frame_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  stats_.transport_reused = reuse ? 1 : 0;
+  if (!relit) stats_.transport_reused = reuse ? 1 : 0;
   lastFromTransport_ = editing;
   stats_.transport_full_pipeline = settings_.method == SS_METHOD_MATERIAL_EDIT && !editing ? 1 : 0;
   if (editing && !reuse) {
@@ -482,6 +490,39 @@ void Renderer::render(int width, int height, float* rgba) {
     precomputed_.valid = true;
   }
   lastMethod_ = settings_.method, lastWidth_ = width, lastHeight_ = height;
+}
+
+void Renderer::renderPrecomputed(int width, int height) {
+  using Clock = std::chrono::steady_clock;
+  {
+    gl::Purpose purpose("PRECOMPUTED's exitance (" + std::to_string(width) + " x " + std::to_string(height) +
+                        " pixels; lower the render resolution)");
+    precomputedDisplay_.resize(width, height);
+  }
+  bool reuse = precomputedTransport_.serves(scene_);
+  auto start = Clock::now();
+  if (!reuse) {
+    // Within the memory budget, less what the frame's GPU buffers already hold.
+    uint64_t budget = gl::memoryBudget(), live = gl::gpuBytes();
+    size_t room = size_t(std::min<uint64_t>(budget > live ? budget - live : 0, PrecomputedTransport::kDefaultBytes));
+    try {
+      precomputedTransport_.precompute(scene_, room, progress_);
+    } catch (...) {
+      precomputedTransport_.clear();
+      throw;
+    }
+    stats_.precompute_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  }
+  auto relightStart = Clock::now();
+  precomputedTransport_.relight(scene_, progress_);
+  stats_.relight_ms = std::chrono::duration<double, std::milli>(Clock::now() - relightStart).count();
+  stats_.transport_reused = reuse ? 1 : 0;
+  stats_.precomputed_bytes = precomputedTransport_.bytes();
+  for (const PrecomputedTransport::Object& o : precomputedTransport_.objects()) {
+    stats_.precomputed_texels += o.active.size();
+    stats_.precomputed_factors += o.factors();
+  }
+  precomputedDisplay_.draw(precomputedTransport_, scene_, scene_.camera(), splatting_);
 }
 
 void Renderer::recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,
@@ -608,8 +649,9 @@ void Renderer::readPass(int pass, int width, int height, float* rgba) {
           "pass size " + std::to_string(width) + " x " + std::to_string(height) + " differs from the last render's " +
               std::to_string(lastWidth_) + " x " + std::to_string(lastHeight_));
   size_t pixels = size_t(width) * height;
-  if (lastMethod_ == SS_METHOD_MATERIAL_EDIT)
-    require(pass == SS_PASS_EXITANCE, "MATERIAL_EDIT has only the exitance pass");
+  if (lastMethod_ == SS_METHOD_MATERIAL_EDIT || lastMethod_ == SS_METHOD_PRECOMPUTED)
+    require(pass == SS_PASS_EXITANCE, std::string(lastMethod_ == SS_METHOD_PRECOMPUTED ? "PRECOMPUTED" : "MATERIAL_EDIT") +
+                                          " has only the exitance pass");
   if (lastMethod_ == SS_METHOD_REFERENCE) {
     require(pass == SS_PASS_EXITANCE, "REFERENCE has only the exitance pass");
     std::copy(reference_.exitance().begin(), reference_.exitance().begin() + 4 * pixels, rgba);
@@ -648,7 +690,9 @@ void Renderer::readPass(int pass, int width, int height, float* rgba) {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glBindTexture(GL_TEXTURE_2D, splatting_.normalMaterial());
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, normalMaterial.data());
-  glBindTexture(GL_TEXTURE_2D, lastFromTransport_ ? transport_.exitance() : splats_.exitance());
+  glBindTexture(GL_TEXTURE_2D, lastMethod_ == SS_METHOD_PRECOMPUTED ? precomputedDisplay_.exitance()
+                               : lastFromTransport_                  ? transport_.exitance()
+                                                                     : splats_.exitance());
   glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, rgba);
   gl::checkErrors("pass read-back");
   const auto& materials = scene_.denseMaterials();

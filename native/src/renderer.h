@@ -4,6 +4,7 @@
 #include "pipeline/coverage.h"
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
+#include "pipeline/precomputed_display.h"
 #include "pipeline/reprojection.h"
 #include "pipeline/shadow_map.h"
 #include "pipeline/shading.h"
@@ -63,6 +64,9 @@ class Renderer {
   // pixels of the image, translucent and lit translucent pixels counted on the GPU.
   void countCoverage(int width, int height, const float* rgba, GLuint exitance);
   void renderReference(int width, int height, float* rgba);
+  // PRECOMPUTED's exitance (precomputedDisplay_), precomputing first when the transport does not
+  // serve the scene's meshes and materials.
+  void renderPrecomputed(int width, int height);
 
   Scene scene_;
   GpuScene gpuScene_;  // follows scene_ (its mesh observer)
@@ -78,6 +82,8 @@ class Renderer {
   ShadowMap softMap_;              // every surface at the irradiance's resolution, for SoftEntries
   Splatting splats_;
   TransportSplatting transport_;   // MATERIAL_EDIT's
+  PrecomputedTransport precomputedTransport_;  // PRECOMPUTED's (docs/PRECOMPUTED.md)
+  PrecomputedDisplay precomputedDisplay_;
   Shading shading_;
   Coverage coverage_;
   StageProfiler profiler_;  // its queries are reused by every frame of this context

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 20
+#define SS_API_VERSION 21
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -58,7 +58,13 @@ typedef enum SsMethod {
    * FULL's samples splatted once into the transport of a basis of profiles; while meshes, lights,
    * camera, environment, settings and size stay as they were, a material edit only recombines it.
    * A scene with a heterogeneous (SubEdit) material is rendered as FULL. */
-  SS_METHOD_MATERIAL_EDIT = 5
+  SS_METHOD_MATERIAL_EDIT = 5,
+  /* Precomputed transport of rigid objects (Lensch et al. 2002; API 21, docs/PRECOMPUTED.md): per
+   * translucent object a texture atlas with per-texel filter kernels (the local response) and
+   * vertex-to-vertex throughput factors (the global response), precomputed once for its mesh and
+   * materials; each render relights them under the current lights (CPU, with shadow rays). Any
+   * change of a translucent mesh or of a material precomputes again. */
+  SS_METHOD_PRECOMPUTED = 6
 } SsMethod;
 
 typedef enum SsLightType {
@@ -301,6 +307,14 @@ typedef struct SsStats {
   double precompute_ms;
   int32_t transport_reused;
   int32_t transport_full_pipeline;
+  /* SS_METHOD_PRECOMPUTED (API 21; precompute_ms and transport_reused as above): the bytes its
+   * precomputation holds (kernels, factors, atlases; counted against the memory budget), the
+   * atlas texels and vertex-to-vertex factors over every object, and the CPU time of this
+   * render's relighting (illumination maps, global and local response). 0 for other methods. */
+  uint64_t precomputed_bytes;
+  uint64_t precomputed_texels;
+  uint64_t precomputed_factors;
+  double relight_ms;
 } SsStats;
 
 /* Images of the last render besides the result, same size, bottom row first. */

@@ -416,6 +416,104 @@ glm::vec3 throughPart(const RayScene& rays, int mesh, const glm::vec3& p, const 
   return out;
 }
 
+// The light entering translucent surfaces (step 1's flux): every light, its shadow rays, Fresnel,
+// the TABULATED model's incidence factor and the colour texture's tint. REFERENCE's, and PRECOMPUTED's
+// illumination map (EnteringLight).
+struct EnteringContext {
+  const Scene& scene;
+  const RayScene& rays;
+  const std::vector<MaterialEntry>& entries;
+  std::vector<Profile> profiles;
+  RenderLights rendered;
+  std::vector<float> softSizes, entrySoftness;
+
+  EnteringContext(const Scene& s, const RayScene& r)
+      : scene(s), rays(r), entries(s.denseMaterials()), rendered(renderLights(s)) {
+    for (size_t i = 0; i < entries.size(); ++i) profiles.emplace_back(entries[i], int(i));
+    // Soft shadows: each light's disk, as the GPU's views have it (light_views.cpp).
+    for (const SsLightDesc& l : rendered.lights) softSizes.push_back(lightSoftSize(l));
+    // A soft light's shadow on the light entering translucent objects, as renderer.cpp draws it
+    // (docs/SOFT_SHADOWS.md, "Translucent objects"): where another object can cast one, the
+    // irradiance buffer holds translucent surfaces only, and each entry takes the share of the
+    // light's shape that no other object hides.
+    entrySoftness.assign(rendered.lights.size(), 0.0f);
+    if (rays.meshes().size() > 1) entrySoftness = softSizes;
+  }
+  bool translucentHit(const Hit& h) const {
+    return profiles[(*rays.meshes()[size_t(h.mesh)].materials)[h.triangle]].translucent;
+  }
+  // A light's sample at p, for a surface of normal n (either side: the world's weight takes the
+  // side facing the light, as the shaders do).
+  LightSample lightAt(size_t i, const glm::vec3& p, const glm::vec3& n) const {
+    LightSample ls = sampleLightOn(rendered.lights[i], p, n);
+    if (rendered.world[i])
+      ls.irradiance *= worldWeight(rendered.worldDirections, glm::dot(n, ls.towardsLight) >= 0.0f ? n : -n);
+    return ls;
+  }
+
+  // The flux through a cell of `area` at p on triangle `triangle` of ray mesh `mesh` (geometric
+  // normal ng, shading normal ns, both unit) whose material entry is `base` (Fresnel, the
+  // incidence factor) and whose point's entry is `point` (the tint at pointUv).
+  Entering at(uint32_t mesh, uint32_t triangle, const glm::vec3& p, const glm::vec3& ng, const glm::vec3& ns,
+              float area, uint32_t base, uint32_t point, const glm::vec2& pointUv) const {
+    (void)triangle;
+    const Profile& profile = profiles[base];  // Fresnel: the same for every entry
+    const std::vector<SsLightDesc>& lights = rendered.lights;
+    Entering out;
+    glm::vec3 flux(0.0f), fluxMu0(0.0f);
+    out.normal = ns;
+    bool facing = false;
+    auto translucent = [this](const Hit& h) { return translucentHit(h); };
+    for (size_t li = 0; li < lights.size(); ++li) {
+      LightSample ls = lightAt(li, p, ns);
+      float cosGeometric = std::abs(glm::dot(ng, ls.towardsLight));
+      if (cosGeometric <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
+      float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
+      float ft = float(fresnelTransmittance(profile.eta, cosShading));
+      if (ft <= 0.0f) continue;
+      float visibility = 1.0f;
+      if (entrySoftness[li] > 0.0f) {
+        // The irradiance buffer's depth test among translucent surfaces, from the light's centre;
+        // then the share of the light's shape that no other object hides.
+        float eps = rays.epsilon();
+        float far = std::isinf(ls.distance) ? std::numeric_limits<float>::infinity()
+                                            : std::max(ls.distance - 2.0f * eps, 0.0f);
+        glm::vec3 origin = offsetOrigin(p, ng, ls.towardsLight, eps);
+        if (firstHit(rays, origin, ls.towardsLight, 0.0f, far, translucent).valid()) continue;
+        visibility = softVisibility(rays, p, ng, ls, lights[li], entrySoftness[li], int(mesh));
+        if (visibility <= 0.0f) continue;
+      } else if (!visible(rays, p, ng, ls)) {
+        continue;
+      }
+      glm::vec3 lightFlux = ls.irradiance * (cosGeometric * ft * area * visibility);
+      if (profile.transport) {  // the incidence factor, for the thickness the light crosses here
+        if (!facing) out.normal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns, facing = true;
+        // The slab's thickness along its normal (the light crossed it at cosShading), and how
+        // slab-like the part is between entry and exit (transport_model.h: slabLikeness).
+        glm::vec3 exitNormal(0.0f);
+        double thickness = exitDistance(rays, int(mesh), p, ng, ls.towardsLight, &exitNormal) * cosShading;
+        glm::vec3 entryNormal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns;
+        double slab = std::isinf(thickness) ? 0.0 : slabLikeness(double(glm::dot(entryNormal, exitNormal)));
+        for (int c = 0; c < 3; ++c) {
+          double tau = thickness * profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
+          double halfSpace = profile.transport->incidence(c, double(INFINITY), cosShading);
+          double slabFactor = slab > 0.0 ? profile.transport->incidence(c, tau, cosShading) : halfSpace;
+          lightFlux[c] *= float(slab * slabFactor + (1.0 - slab) * halfSpace);
+        }
+        fluxMu0 += lightFlux * cosShading;
+      }
+      flux += lightFlux;
+    }
+    // The colour texture's tint, sqrt(T) as the light enters (irradiance_buffer.frag).
+    if (entries[point].color) {
+      glm::vec3 root = glm::sqrt(entries[point].color.sample(pointUv));
+      flux *= root, fluxMu0 *= root;
+    }
+    out.flux = flux, out.fluxMu0 = fluxMu0;
+    return out;
+  }
+};
+
 struct TriangleCells {
   uint32_t mesh, triangle, cuts;  // cuts x cuts cells
   size_t first;                   // index of its first sample in its object
@@ -423,12 +521,28 @@ struct TriangleCells {
 
 }  // namespace
 
+struct EnteringLight::Context : EnteringContext {
+  using EnteringContext::EnteringContext;
+};
+
+EnteringLight::EnteringLight(const Scene& scene, const RayScene& rays)
+    : context_(std::make_unique<Context>(scene, rays)) {}
+EnteringLight::~EnteringLight() = default;
+
+Entering EnteringLight::at(uint32_t mesh, uint32_t triangle, const glm::vec3& p, const glm::vec3& ng,
+                           const glm::vec3& ns, float area, uint32_t base, uint32_t point,
+                           const glm::vec2& pointUv) const {
+  return context_->at(mesh, triangle, p, ng, ns, area, base, point, pointUv);
+}
+
 void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& options, int width, int height,
                                float* rgba, const ProgressFunction& progress, SsStats& stats) {
   auto frameStart = Clock::now();
-  const std::vector<MaterialEntry>& entries = scene.denseMaterials();
-  std::vector<Profile> profiles;
-  for (size_t i = 0; i < entries.size(); ++i) profiles.emplace_back(entries[i], int(i));
+  RayScene rays(scene);
+  const auto& meshes = rays.meshes();
+  const EnteringContext entering(scene, rays);
+  const std::vector<MaterialEntry>& entries = entering.entries;
+  const std::vector<Profile>& profiles = entering.profiles;
   // The entry of a point of triangle t at barycentric w (its UV's profile).
   auto entryAt = [&](const WorldMesh& m, uint32_t t, const glm::vec3& w) {
     uint32_t base = (*m.materials)[t];
@@ -438,31 +552,13 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
     glm::vec2 at = w.x * uv[i.x] + w.y * uv[i.y] + w.z * uv[i.z];
     return uint32_t(entries[base].entryAt(&at));
   };
-  RayScene rays(scene);
-  const auto& meshes = rays.meshes();
-  RenderLights rendered = renderLights(scene);
+  const RenderLights& rendered = entering.rendered;
   const std::vector<SsLightDesc>& lights = rendered.lights;
-  // A light's sample at p, for a surface of normal n (either side: the world's weight takes the side
-  // facing the light, as the shaders do).
-  auto lightAt = [&](size_t i, const glm::vec3& p, const glm::vec3& n) {
-    LightSample ls = sampleLightOn(lights[i], p, n);
-    if (rendered.world[i])
-      ls.irradiance *= worldWeight(rendered.worldDirections, glm::dot(n, ls.towardsLight) >= 0.0f ? n : -n);
-    return ls;
-  };
-  // Soft shadows: each light's disk, as the GPU's views have it (light_views.cpp).
-  std::vector<float> softSizes;
-  for (const SsLightDesc& l : lights) softSizes.push_back(lightSoftSize(l));
+  auto lightAt = [&](size_t i, const glm::vec3& p, const glm::vec3& n) { return entering.lightAt(i, p, n); };
+  const std::vector<float>& softSizes = entering.softSizes;
   auto worldOf = [&](size_t i) { return rendered.world[i] ? &rendered.worldDirections : nullptr; };
-  // A soft light's shadow on the light entering translucent objects, as renderer.cpp draws it
-  // (docs/SOFT_SHADOWS.md, "Translucent objects"): where another object can cast one, the irradiance
-  // buffer holds translucent surfaces only, and each entry takes the share of the light's shape
-  // that no other object hides.
-  std::vector<float> entrySoftness(lights.size(), 0.0f);
-  if (meshes.size() > 1) entrySoftness = softSizes;
-  auto translucentHit = [&](const Hit& h) {
-    return profiles[(*meshes[size_t(h.mesh)].materials)[h.triangle]].translucent;
-  };
+  const std::vector<float>& entrySoftness = entering.entrySoftness;
+  auto translucentHit = [&](const Hit& h) { return entering.translucentHit(h); };
 
   // 1. Cells: by area, at least one per triangle.
   double totalArea = 0.0;
@@ -507,7 +603,6 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
       const TriangleCells& tc = cells[ci];
       const WorldMesh& m = meshes[tc.mesh];
       glm::uvec3 tri = m.triangle(tc.triangle);
-      const Profile& profile = profiles[(*m.materials)[tc.triangle]];  // Fresnel: the same for every entry
       glm::vec3 p0 = m.positions[tri.x], e1 = m.positions[tri.y] - p0, e2 = m.positions[tri.z] - p0;
       glm::vec3 ng = glm::normalize(glm::cross(e1, e2));
       bool hasUvs = m.mesh->hasUvs();
@@ -536,54 +631,11 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         }
         glm::vec3 ns = interpolate(m.normals, tri, {1.0f - centre.x - centre.y, centre.x, centre.y});
         ns = glm::dot(ns, ns) > 0.0f ? glm::normalize(ns) : ng;
-        glm::vec3 flux(0.0f), fluxMu0(0.0f);
-        s.normal = ns;
-        bool facing = false;
-        for (size_t li = 0; li < lights.size(); ++li) {
-          LightSample ls = lightAt(li, s.position, ns);
-          float cosGeometric = std::abs(glm::dot(ng, ls.towardsLight));
-          if (cosGeometric <= 0.0f || ls.irradiance == glm::vec3(0.0f)) continue;
-          float cosShading = std::abs(glm::dot(ns, ls.towardsLight));  // two-sided, as Cycles
-          float ft = float(fresnelTransmittance(profile.eta, cosShading));
-          if (ft <= 0.0f) continue;
-          float visibility = 1.0f;
-          if (entrySoftness[li] > 0.0f) {
-            // The irradiance buffer's depth test among translucent surfaces, from the light's centre;
-            // then the share of the light's shape that no other object hides.
-            float eps = rays.epsilon();
-            float far = std::isinf(ls.distance) ? std::numeric_limits<float>::infinity()
-                                                : std::max(ls.distance - 2.0f * eps, 0.0f);
-            glm::vec3 origin = offsetOrigin(s.position, ng, ls.towardsLight, eps);
-            if (firstHit(rays, origin, ls.towardsLight, 0.0f, far, translucentHit).valid()) continue;
-            visibility = softVisibility(rays, s.position, ng, ls, lights[li], entrySoftness[li], int(tc.mesh));
-            if (visibility <= 0.0f) continue;
-          } else if (!visible(rays, s.position, ng, ls)) {
-            continue;
-          }
-          glm::vec3 lightFlux = ls.irradiance * (cosGeometric * ft * area * visibility);
-          if (profile.transport) {  // the incidence factor, for the thickness the light crosses here
-            if (!facing) s.normal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns, facing = true;
-            // The slab's thickness along its normal (the light crossed it at cosShading), and how
-            // slab-like the part is between entry and exit (transport_model.h: slabLikeness).
-            glm::vec3 exitNormal(0.0f);
-            double thickness = exitDistance(rays, int(tc.mesh), s.position, ng, ls.towardsLight, &exitNormal) * cosShading;
-            glm::vec3 entryNormal = glm::dot(ns, ls.towardsLight) >= 0.0f ? ns : -ns;
-            double slab = std::isinf(thickness) ? 0.0 : slabLikeness(double(glm::dot(entryNormal, exitNormal)));
-            for (int c = 0; c < 3; ++c) {
-              double tau = thickness * profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
-              double halfSpace = profile.transport->incidence(c, double(INFINITY), cosShading);
-              double slabFactor = slab > 0.0 ? profile.transport->incidence(c, tau, cosShading) : halfSpace;
-              lightFlux[c] *= float(slab * slabFactor + (1.0 - slab) * halfSpace);
-            }
-            fluxMu0 += lightFlux * cosShading;
-          }
-          flux += lightFlux;
-        }
-        // The colour texture's tint, sqrt(T) as the light enters (irradiance_buffer.frag).
-        if (entries[s.material].color) {
-          glm::vec3 root = glm::sqrt(entries[s.material].color.sample(uv0 + centre.x * (uv1 - uv0) + centre.y * (uv2 - uv0)));
-          flux *= root, fluxMu0 *= root;
-        }
+        glm::vec2 pointUv = uv0 + centre.x * (uv1 - uv0) + centre.y * (uv2 - uv0);
+        Entering in = entering.at(tc.mesh, tc.triangle, s.position, ng, ns, area, (*m.materials)[tc.triangle],
+                                  s.material, pointUv);
+        glm::vec3 flux = in.flux, fluxMu0 = in.fluxMu0;
+        s.normal = in.normal;
         s.flux = flux;
         s.fluxMu0 = fluxMu0;
       };

@@ -19,6 +19,7 @@
 
 #include <glm/glm.hpp>
 
+#include <memory>
 #include <vector>
 
 #include "scene.h"
@@ -33,6 +34,36 @@ struct ReferenceOptions {
   // width (SsSettings: samples, first_sample, filter_width).
   int pixelSamples = 1, firstSample = 0;
   float filterWidth = 1.5f;
+};
+
+class RayScene;
+
+// The light entering a translucent surface through a cell of it: E dA with every light's shadow
+// rays, the Fresnel transmittance, the TABULATED model's incidence factor and the colour texture's
+// tint (sqrt T), as REFERENCE's samples carry it (step 1 below).
+struct Entering {
+  glm::vec3 flux{0.0f};     // E dA, W
+  glm::vec3 fluxMu0{0.0f};  // TABULATED: each light's flux times its incidence cosine, summed
+  glm::vec3 normal{0.0f};   // the shading normal, facing the (first) light under TABULATED
+};
+
+// REFERENCE's entering light for other CPU methods (PRECOMPUTED's illumination map,
+// precomputed/precomputed_transport.h): the same lights, shadows and factors.
+class EnteringLight {
+ public:
+  EnteringLight(const Scene& scene, const RayScene& rays);
+  ~EnteringLight();
+  EnteringLight(const EnteringLight&) = delete;
+  EnteringLight& operator=(const EnteringLight&) = delete;
+  // Through a cell of `area` at p on triangle `triangle` of the ray scene's mesh `mesh`: ng its
+  // geometric normal, ns the shading normal (both unit); `base` the triangle's material entry,
+  // `point` the entry at p and pointUv its texture coordinate (for the tint).
+  Entering at(uint32_t mesh, uint32_t triangle, const glm::vec3& p, const glm::vec3& ng, const glm::vec3& ns,
+              float area, uint32_t base, uint32_t point, const glm::vec2& pointUv) const;
+
+ private:
+  struct Context;
+  std::unique_ptr<Context> context_;
 };
 
 class ReferenceRenderer {

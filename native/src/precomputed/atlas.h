@@ -1,0 +1,69 @@
+// The texture atlas of one mesh for PRECOMPUTED (Lensch et al. 2002, Section 5.1;
+// docs/PRECOMPUTED.md, "The atlas"):
+//
+//  1. Charts: starting from the first triangle not yet in one, a chart grows over shared edges
+//     while each triangle's normal is within kMaxDeviationDegrees of the chart's mean normal.
+//  2. Each chart is projected orthographically onto the plane of its mean normal, and turned so
+//     that its bounding box has the least area.
+//  3. Border: the triangles around the chart are unfolded into its plane across shared edges (each
+//     keeps its own shape; a fan around a vertex may leave a wedge), ring by ring, and fill the
+//     texels around the chart's core out to `border` texels; a texel the unfolding leaves empty
+//     takes its nearest filled neighbour's point with no area (a place for the display's bilinear
+//     lookup, which adds no light).
+//  4. The charts' rectangles (core plus border on every side) are packed on shelves.
+//
+// Every translucent triangle is the core of exactly one chart; a texel belongs to at most one chart.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace subsplat {
+
+// A texel is two things (Lensch et al. 2002, Section 5.3): a receiver, the surface point at its
+// centre (where the display's bilinear lookup reads it), and a source, the part of its chart's
+// core inside its square (the piecewise constant basis: its area, and the point at its centroid,
+// where its irradiance is sampled). A core texel's centre is on the core; a border texel's on an
+// unfolded neighbour (or, in a gap, its nearest neighbour's point); either may hold a source part.
+struct AtlasTexel {
+  static constexpr uint32_t kNone = 0xffffffffu;
+  enum Kind : uint8_t { kEmpty = 0, kCore = 1, kBorder = 2 };
+  uint32_t triangle = kNone;    // the mesh triangle its centre's point lies on
+  glm::vec3 barycentric{0.0f};  // of that point on the triangle
+  float area = 0.0f;            // the core's surface area inside the square, world units^2
+  uint32_t sourceTriangle = kNone;    // area > 0: the triangle with most of it
+  glm::vec3 sourceBarycentric{0.0f};  // the centroid of that triangle's part
+  int32_t chart = -1;
+  uint8_t kind = kEmpty;
+};
+
+struct Atlas {
+  int width = 0, height = 0;  // texels
+  float texel = 0.0f;         // texel side, world units
+  int border = 0;             // texels of border around each chart's core
+  std::vector<AtlasTexel> texels;  // row by row
+  int charts = 0;
+  struct Rect {
+    glm::ivec2 origin{0}, size{0};  // the chart's rectangle, border included
+  };
+  std::vector<Rect> rects;                // per chart
+  std::vector<glm::vec3> chartU, chartV;  // per chart: its plane's axes (the atlas's x and y), unit
+  std::vector<int32_t> chartOfTriangle;   // -1: not in the atlas (opaque, degenerate)
+  std::vector<glm::vec2> cornerTexel;     // 3 per triangle: the corners in atlas texels (core)
+  const AtlasTexel& at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+constexpr float kMaxDeviationDegrees = 30.0f;
+
+// The atlas of a mesh in world space (positions, 3 indices a triangle); `include` says which
+// triangles are in it (translucent ones). Texel side `texel` (world units) and `border` texels.
+// Throws Error(SS_LIMIT_EXCEEDED) past maxTexels texels.
+Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices,
+                 const std::vector<char>& include, float texel, int border, size_t maxTexels);
+
+// Welds the corners that share a position: the index of each vertex's first copy.
+std::vector<uint32_t> weldVertices(const std::vector<glm::vec3>& positions);
+
+}  // namespace subsplat

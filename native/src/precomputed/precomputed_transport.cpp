@@ -1,0 +1,749 @@
+#include "precomputed/precomputed_transport.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <tuple>
+
+#include "material/profile_set.h"
+#include "material/transport_model.h"
+#include "reference/ray_scene.h"
+#include "reference/reference_renderer.h"
+#include "util/error.h"
+
+namespace subsplat {
+
+namespace {
+
+// One dense entry's profile per channel, in millimetres; support and detail in scene units.
+struct EntryProfile {
+  bool translucent = false, tabulated = false;
+  std::array<std::shared_ptr<const RadialProfile>, 3> channel;
+  double mmPerUnit = 1.0;
+  double support = 0.0;   // the radius keeping kSupportEnergy of every channel
+  double detail = 0.0;    // the finest channel's half-energy radius
+};
+
+constexpr double kSupportEnergy = 0.999;
+
+std::vector<EntryProfile> entryProfiles(const Scene& scene) {
+  const std::vector<MaterialEntry>& entries = scene.denseMaterials();
+  std::vector<EntryProfile> out(entries.size());
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const MaterialEntry& e = entries[i];
+    EntryProfile& p = out[i];
+    if (!isTranslucent(e.desc) || e.desc.kind == SS_MATERIAL_HOLDOUT) continue;
+    p.translucent = true;
+    p.tabulated = e.transport != nullptr;
+    p.mmPerUnit = e.desc.mm_per_unit;
+    p.detail = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 3; ++c) {
+      if (e.desc.kind == SS_MATERIAL_SUBEDIT)
+        p.channel[size_t(c)] = std::make_shared<SegmentedProfile>(e.profiles->channel(int(i) - e.base, c));
+      else
+        p.channel[size_t(c)] = makeMediumProfile({e.desc.sigma_a[c], e.desc.sigma_s_prime[c], e.desc.eta},
+                                                 e.desc.profile_model);
+      const RadialProfile& profile = *p.channel[size_t(c)];
+      if (profile.totalEnergy() <= 0.0) continue;
+      p.support = std::max(p.support, profile.radiusForEnergy(kSupportEnergy) / p.mmPerUnit);
+      p.detail = std::min(p.detail, profile.radiusForEnergy(0.5) / p.mmPerUnit);
+    }
+    if (!std::isfinite(p.detail)) p.detail = 0.0;
+  }
+  return out;
+}
+
+// P's mean over a cell of radius h around the source at distance r (mm, 1/mm^2): over the disk
+// when nearer than h, over the ring from r - h to r + h when nearer than 8 h, else P(r) (the
+// profiles' peak at r = 0, which a point value misses; REFERENCE's Profile::evaluate does the same).
+double cellMean(const RadialProfile& p, double r, double h) {
+  if (h > 0.0 && r < 8.0 * h) {
+    double lo = std::max(r - h, 0.0), hi = r + h;
+    if (r < h) lo = 0.0, hi = h;
+    return (p.energyWithin(hi) - p.energyWithin(lo)) / (M_PI * (hi * hi - lo * lo));
+  }
+  return p.value(r);
+}
+
+// R_d from a source cell of `area` with profile `in` to a point at distance r with profile `out`,
+// 1 / unit^2: sqrt(P_in P_out) between different profiles (eq. 8).
+glm::vec3 transport(const EntryProfile& in, const EntryProfile& out, double r, double area) {
+  double h = std::sqrt(std::max(area, 0.0) / M_PI);
+  glm::vec3 k(0.0f);
+  for (int c = 0; c < 3; ++c) {
+    double a = cellMean(*in.channel[size_t(c)], r * in.mmPerUnit, h * in.mmPerUnit) * in.mmPerUnit * in.mmPerUnit;
+    if (&in != &out) {
+      double b = cellMean(*out.channel[size_t(c)], r * out.mmPerUnit, h * out.mmPerUnit) * out.mmPerUnit * out.mmPerUnit;
+      a = std::sqrt(std::max(a, 0.0) * std::max(b, 0.0));
+    }
+    k[c] = float(a);
+  }
+  return k;
+}
+
+// The share of a unit flux spread over a square of side `side` (mm) centred `centre` (mm) away that
+// a profile sends to the origin: the energy of P over the square, by angle, with P's energy within
+// a radius (energyWithin) along each ray: exact but for the angular sum (kSquareAngles).
+constexpr int kSquareAngles = 24;
+double squareEnergy(const RadialProfile& p, glm::dvec2 centre, double side) {
+  double half = 0.5 * side;
+  if (glm::length(centre) < 1e-9 * side) {
+    // The source's own square, centred: by symmetry, an eighth of it, theta in [0, pi / 4].
+    double sum = 0.0;
+    for (int k = 0; k < kSquareAngles; ++k) {
+      double theta = (k + 0.5) / kSquareAngles * (M_PI / 4.0);
+      sum += p.energyWithin(half / std::cos(theta));
+    }
+    return sum / kSquareAngles;  // 8 x (pi / 4) / (2 pi) = 1
+  }
+  if (std::abs(centre.x) < half && std::abs(centre.y) < half) {
+    // A square around the origin: every ray, from the origin to where it leaves.
+    const int n = 8 * kSquareAngles;
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) {
+      double theta = (k + 0.5) / n * 2.0 * M_PI;
+      glm::dvec2 d(std::cos(theta), std::sin(theta));
+      double t = INFINITY;
+      for (int axis = 0; axis < 2; ++axis)
+        if (std::abs(d[axis]) > 1e-15) t = std::min(t, std::max((centre[axis] - half) / d[axis], (centre[axis] + half) / d[axis]));
+      sum += p.energyWithin(t);
+    }
+    return sum / n;
+  }
+  // Another square: the rays through it, each from where it enters to where it leaves.
+  double lo = INFINITY, hi = -INFINITY, base = std::atan2(centre.y, centre.x);
+  for (int k = 0; k < 4; ++k) {
+    glm::dvec2 corner = centre + half * glm::dvec2(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0);
+    double a = std::remainder(std::atan2(corner.y, corner.x) - base, 2.0 * M_PI);
+    lo = std::min(lo, a), hi = std::max(hi, a);
+  }
+  double sum = 0.0, step = (hi - lo) / kSquareAngles;
+  for (int k = 0; k < kSquareAngles; ++k) {
+    double theta = base + lo + (k + 0.5) * step;
+    glm::dvec2 d(std::cos(theta), std::sin(theta));
+    double t0 = 0.0, t1 = INFINITY;
+    for (int axis = 0; axis < 2; ++axis) {
+      if (std::abs(d[axis]) < 1e-15) {
+        if (std::abs(centre[axis]) > half) t1 = -1.0;
+        continue;
+      }
+      double a = (centre[axis] - half) / d[axis], b = (centre[axis] + half) / d[axis];
+      t0 = std::max(t0, std::min(a, b)), t1 = std::min(t1, std::max(a, b));
+    }
+    if (t1 > t0) sum += p.energyWithin(t1) - p.energyWithin(t0);
+  }
+  return sum * step / (2.0 * M_PI);
+}
+
+// R_d from a source texel of `area` to a receiver at distance r, 1 / unit^2, where `offset` is the
+// receiver's offset in the source's chart plane (scene units): the profile's energy over the
+// source's square (its side the root of its area, the offset scaled so that the centres are r
+// apart) over its area; sqrt(K_in K_out) between different profiles.
+glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, double r, double area, glm::dvec2 offset) {
+  if (!(area > 0.0)) return glm::vec3(0.0f);
+  double planar = glm::length(offset), side = std::sqrt(area);
+  glm::dvec2 centre = planar > 1e-12 * side ? offset * (r / planar) : glm::dvec2(0.0);
+  glm::vec3 k(0.0f);
+  for (int c = 0; c < 3; ++c) {
+    double a = squareEnergy(*in.channel[size_t(c)], centre * in.mmPerUnit, side * in.mmPerUnit) / area;
+    if (&in != &out)
+      a = std::sqrt(std::max(a, 0.0) *
+                    std::max(squareEnergy(*out.channel[size_t(c)], centre * out.mmPerUnit, side * out.mmPerUnit) / area, 0.0));
+    k[c] = float(a);
+  }
+  return k;
+}
+
+// Sources nearer than this many texels are integrated over their square (nearTransport).
+constexpr double kNearTexels = 1.5;
+// The atlas's border: receivers around each chart, for the display's bilinear lookups (the local
+// response gathers its sources in 3D, across charts, so the border carries no light of its own).
+constexpr int kBorderTexels = 3;
+// Vertex pairs nearer than this many local ranges take the hats' mean (Galerkin) factors.
+constexpr double kGalerkinRanges = 1.5;
+// The direct weights' least squares: ridge of this share of the normal matrix's mean diagonal.
+constexpr double kRidge = 0.05;
+
+uint64_t fnv(uint64_t h, const void* data, size_t bytes) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+// A texel's point: position, normal (unit), profile entry, area, its triangle's vertices and weights.
+struct TexelPoint {
+  glm::vec3 position{0.0f}, normal{0.0f}, geometricNormal{0.0f};
+  uint32_t triangle = 0, base = 0, entry = 0;
+  float area = 0.0f;
+  glm::uvec3 vertices{0u};
+  glm::vec3 beta{0.0f};
+  glm::vec2 uv{0.0f};
+};
+
+// Points sorted into a uniform grid, for the neighbours within a radius.
+class PointGrid {
+ public:
+  PointGrid(const std::vector<glm::vec3>& points, double cell) : points_(points) {
+    for (const glm::vec3& p : points) bounds_.extend(p);
+    cell_ = float(std::max(cell, 1e-9));
+    glm::vec3 extent = glm::max(bounds_.hi - bounds_.lo, glm::vec3(1e-6f));
+    while (double(extent.x / cell_ + 1) * (extent.y / cell_ + 1) * (extent.z / cell_ + 1) > 4.0e6) cell_ *= 1.5f;
+    dims_ = glm::ivec3(extent / cell_) + 1;
+    start_.assign(size_t(dims_.x) * size_t(dims_.y) * size_t(dims_.z) + 1, 0);
+    sorted_.resize(points.size());
+    for (const glm::vec3& p : points) ++start_[index(cellOf(p)) + 1];
+    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < points.size(); ++i) sorted_[fill[index(cellOf(points[i]))]++] = uint32_t(i);
+  }
+  // f(i, distance) for every point i within `radius` of p (in the grid's order: deterministic).
+  template <typename F>
+  void within(const glm::vec3& p, double radius, const F& f) const {
+    if (points_.empty()) return;
+    glm::ivec3 lo = cellOf(p - glm::vec3(float(radius))), hi = cellOf(p + glm::vec3(float(radius)));
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) {
+          size_t c = index({x, y, z});
+          for (uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
+            uint32_t i = sorted_[k];
+            double d = double(glm::length(points_[i] - p));
+            if (d < radius) f(i, d);
+          }
+        }
+  }
+
+ private:
+  glm::ivec3 cellOf(const glm::vec3& p) const {
+    return glm::clamp(glm::ivec3(glm::floor((p - bounds_.lo) / cell_)), glm::ivec3(0), dims_ - 1);
+  }
+  size_t index(glm::ivec3 c) const { return (size_t(c.z) * size_t(dims_.y) + size_t(c.y)) * size_t(dims_.x) + size_t(c.x); }
+  const std::vector<glm::vec3>& points_;
+  Bounds bounds_;
+  float cell_ = 1.0f;
+  glm::ivec3 dims_{1};
+  std::vector<uint32_t> start_, sorted_;
+};
+
+}  // namespace
+
+PrecomputedTransport::PrecomputedTransport() = default;
+PrecomputedTransport::~PrecomputedTransport() = default;
+
+size_t PrecomputedTransport::Object::bytes() const {
+  return kernelSource.size() * 4 + kernelWeight.size() * sizeof(glm::vec3) + kernelStart.size() * 4 + factor.size() * sizeof(glm::vec3) + column.size() * 4 +
+         rowStart.size() * 4 + direct.size() * sizeof(direct[0]) + atlas.texels.size() * sizeof(AtlasTexel) +
+         active.size() * 4 + activeOf.size() * 4 + local.size() * sizeof(glm::vec4) +
+         vertexExitance.size() * sizeof(glm::vec4) + vertexPositions.size() * sizeof(glm::vec3) +
+         vertexOfCorner.size() * 4;
+}
+
+size_t PrecomputedTransport::bytes() const {
+  size_t total = 0;
+  for (const Object& o : objects_) total += o.bytes();
+  return total;
+}
+
+PrecomputationSize choosePrecomputation(double area, double edge, double support, double detail, size_t maxBytes) {
+  PrecomputationSize size;
+  size.edge = float(edge);
+  size.detail = float(detail);
+  double local = std::min(PrecomputedTransport::kLocalEdges * edge, support);
+  if (!(local > 0.0)) local = std::max(edge, 1e-9);
+  size.localRange = float(local);
+  double texel = std::max(local / PrecomputedTransport::kMaxRadius,
+                          std::min(detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
+                                   local / PrecomputedTransport::kMinRadius));
+  auto radiusFor = [&](double t) {
+    return std::clamp(int(std::ceil(local / t - 1e-6)), PrecomputedTransport::kMinRadius, PrecomputedTransport::kMaxRadius);
+  };
+  int radius = radiusFor(texel);
+  // Kernels, records and outputs of the texels (borders and packing about 80 % more than the
+  // surface) within three quarters of the memory, the rest for the factors.
+  for (int step = 0; step < 200; ++step) {
+    double texels = 1.8 * area / (texel * texel) + 64.0;
+    double taps = M_PI * (radius + 0.5) * (radius + 0.5);  // the core texels within the local range
+    double bytes = texels * (taps * 16.0 + 96.0);
+    if (bytes <= 0.75 * double(maxBytes)) break;
+    texel *= 1.15;
+    radius = radiusFor(texel);
+  }
+  size.texel = float(texel);
+  size.radius = radius;
+  return size;
+}
+
+uint64_t PrecomputedTransport::hashMeshes(const Scene& scene) {
+  uint64_t h = 1469598103934665603ull;
+  for (const auto& [id, mesh] : scene.meshes()) {
+    if (!mesh.translucent) continue;
+    h = fnv(h, &id, sizeof id);
+    h = fnv(h, &mesh.objectToWorld, sizeof mesh.objectToWorld);
+    h = fnv(h, mesh.cpuPositions.data(), mesh.cpuPositions.size() * sizeof(glm::vec3));
+    h = fnv(h, mesh.cpuNormals.data(), mesh.cpuNormals.size() * sizeof(glm::vec3));
+    h = fnv(h, mesh.cpuUvs.data(), mesh.cpuUvs.size() * sizeof(glm::vec2));
+    h = fnv(h, mesh.cpuIndices.data(), mesh.cpuIndices.size() * sizeof(uint32_t));
+    h = fnv(h, mesh.denseMaterials.data(), mesh.denseMaterials.size() * sizeof(uint32_t));
+  }
+  return h;
+}
+
+std::vector<double> PrecomputedTransport::signature(const Scene& scene) {
+  std::vector<double> s;
+  for (const MaterialEntry& e : scene.denseMaterials()) {
+    const SsMaterialDesc& d = e.desc;
+    s.insert(s.end(), {double(d.kind), double(d.eta), double(d.mm_per_unit), double(d.profile_model),
+                       double(reinterpret_cast<uintptr_t>(e.profiles.get())), double(e.base)});
+    for (int c = 0; c < 3; ++c) s.insert(s.end(), {double(d.sigma_a[c]), double(d.sigma_s_prime[c])});
+  }
+  return s;
+}
+
+std::vector<const void*> PrecomputedTransport::identity(const Scene& scene) {
+  std::vector<const void*> out;
+  for (const auto& [id, mesh] : scene.meshes()) {
+    out.push_back(&mesh);
+    out.push_back(mesh.cpuPositions.data());
+    out.push_back(mesh.cpuIndices.data());
+    out.push_back(mesh.denseMaterials.data());
+    out.push_back(reinterpret_cast<const void*>(uintptr_t(mesh.triangleCount)));
+    uint64_t h = fnv(1469598103934665603ull, mesh.cpuPositions.data(), mesh.cpuPositions.size() * sizeof(glm::vec3));
+    h = fnv(h, &mesh.objectToWorld, sizeof mesh.objectToWorld);
+    out.push_back(reinterpret_cast<const void*>(uintptr_t(h)));
+  }
+  return out;
+}
+
+bool PrecomputedTransport::serves(const Scene& scene) const {
+  return valid_ && meshHash_ == hashMeshes(scene) && materialSignature_ == signature(scene);
+}
+
+void PrecomputedTransport::clear() {
+  objects_.clear();
+  valid_ = false;
+  rays_.reset();
+  rayIdentity_.clear();
+}
+
+void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress) {
+  clear();
+  rays_ = std::make_unique<RayScene>(scene);
+  rayIdentity_ = identity(scene);
+  const std::vector<MaterialEntry>& entries = scene.denseMaterials();
+  const std::vector<EntryProfile> profiles = entryProfiles(scene);
+  size_t used = 0;
+  const auto& meshes = rays_->meshes();
+  for (size_t mi = 0; mi < meshes.size(); ++mi) {
+    const WorldMesh& wm = meshes[mi];
+    const Mesh& mesh = *wm.mesh;
+    const size_t triangles = mesh.triangleCount;
+    std::vector<char> include(triangles, 0);
+    double area = 0.0, support = 0.0, detail = std::numeric_limits<double>::infinity();
+    bool any = false;
+    for (size_t t = 0; t < triangles; ++t) {
+      uint32_t base = (*wm.materials)[t];
+      if (!profiles[base].translucent) continue;
+      include[t] = 1;
+      any = true;
+      glm::uvec3 v = wm.triangle(uint32_t(t));
+      area += 0.5 * double(glm::length(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x])));
+      int count = entries[base].mapped() ? entries[base].profiles->profileCount() : 1;
+      for (int e = 0; e < count; ++e) {
+        const EntryProfile& p = profiles[size_t(base) + size_t(e)];
+        support = std::max(support, p.support);
+        if (p.detail > 0.0) detail = std::min(detail, p.detail);
+      }
+    }
+    if (!any) continue;
+    if (!std::isfinite(detail)) detail = 0.0;
+    objects_.emplace_back();
+    Object& object = objects_.back();
+    for (const auto& [id, m] : scene.meshes())
+      if (&m == &mesh) object.objectId = id;
+    object.rayMesh = int(mi);
+
+    // Vertices: welded, over the atlas's triangles.
+    std::vector<uint32_t> weld = weldVertices(wm.positions);
+    std::vector<uint32_t> compact(wm.positions.size(), ~0u);
+    object.vertexOfCorner.assign(3 * triangles, ~0u);
+    std::vector<float> vertexArea;
+    std::vector<glm::vec3> vertexNormal;
+    std::vector<uint32_t> vertexEntry;
+    double edgeSum = 0.0;
+    size_t edgeCount = 0;
+    for (size_t t = 0; t < triangles; ++t) {
+      if (!include[t]) continue;
+      glm::uvec3 v = wm.triangle(uint32_t(t));
+      float triArea = 0.5f * glm::length(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+      for (int k = 0; k < 3; ++k) {
+        uint32_t w = weld[v[k]];
+        if (compact[w] == ~0u) {
+          compact[w] = uint32_t(object.vertexPositions.size());
+          object.vertexPositions.push_back(wm.positions[w]);
+          vertexArea.push_back(0.0f);
+          vertexNormal.push_back(glm::vec3(0.0f));
+          glm::vec2 uv = mesh.hasUvs() ? mesh.cpuUvs[v[k]] : glm::vec2(0.0f);
+          vertexEntry.push_back(uint32_t(entries[(*wm.materials)[t]].entryAt(mesh.hasUvs() ? &uv : nullptr)));
+        }
+        uint32_t c = compact[w];
+        object.vertexOfCorner[3 * t + size_t(k)] = c;
+        vertexArea[c] += triArea / 3.0f;
+        vertexNormal[c] += wm.normals[v[k]];
+        edgeSum += double(glm::length(wm.positions[v[(k + 1) % 3]] - wm.positions[v[k]]));
+        ++edgeCount;
+      }
+    }
+    object.vertices = int(object.vertexPositions.size());
+    // The hat functions' quadrature (midpoint rule, exact for quadratics over each triangle): a
+    // source vertex's flux spread as its hat, at the midpoints of its edges; a receiving vertex's
+    // value as the dual basis's projection (Lensch et al. eq. 5), +area/A* at the midpoints of its
+    // edges and -area/A* at the opposite ones (A*: the star's area). Weights sum to 1.
+    struct Sample {
+      glm::vec3 p;
+      float w;
+    };
+    std::vector<std::vector<Sample>> sourceSamples(object.vertexPositions.size()), receiverSamples(object.vertexPositions.size());
+    for (size_t t = 0; t < triangles; ++t) {
+      if (!include[t]) continue;
+      glm::uvec3 v = wm.triangle(uint32_t(t));
+      float triArea = 0.5f * glm::length(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+      if (!(triArea > 0.0f)) continue;
+      for (int k = 0; k < 3; ++k) {
+        uint32_t i = object.vertexOfCorner[3 * t + size_t(k)];
+        glm::vec3 a = wm.positions[v[k]], b = wm.positions[v[(k + 1) % 3]], c = wm.positions[v[(k + 2) % 3]];
+        float share = triArea / (3.0f * vertexArea[i]);  // area / A*
+        sourceSamples[i].push_back({0.5f * (a + b), 0.5f * share});
+        sourceSamples[i].push_back({0.5f * (a + c), 0.5f * share});
+        receiverSamples[i].push_back({0.5f * (a + b), share});
+        receiverSamples[i].push_back({0.5f * (a + c), share});
+        receiverSamples[i].push_back({0.5f * (b + c), -share});
+      }
+    }
+    // Midpoints shared by two triangles merged (sorted by position: deterministic).
+    auto merge = [](std::vector<Sample>& samples) {
+      std::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
+        return std::tie(a.p.x, a.p.y, a.p.z) < std::tie(b.p.x, b.p.y, b.p.z);
+      });
+      std::vector<Sample> merged;
+      for (const Sample& x : samples)
+        if (!merged.empty() && merged.back().p == x.p) merged.back().w += x.w;
+        else merged.push_back(x);
+      samples.swap(merged);
+    };
+    for (auto& v : sourceSamples) merge(v);
+    for (auto& v : receiverSamples) merge(v);
+    for (glm::vec3& n : vertexNormal) n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0, 0, 1);
+    double edge = edgeCount ? edgeSum / double(edgeCount) : 0.0;
+
+    // The atlas.
+    size_t left = maxBytes > used ? maxBytes - used : 0;
+    object.size = choosePrecomputation(area, edge, support, detail, left);
+    const int R = object.size.radius;
+    const double taps = M_PI * (R + 0.5) * (R + 0.5);
+    size_t maxTexels = std::max<size_t>(size_t(double(left) / (taps * 16.0 + 96.0)), 4096);
+    object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
+    const Atlas& atlas = object.atlas;
+    object.activeOf.assign(atlas.texels.size(), -1);
+    for (size_t i = 0; i < atlas.texels.size(); ++i)
+      if (atlas.texels[i].kind != AtlasTexel::kEmpty) {
+        object.activeOf[i] = int32_t(object.active.size());
+        object.active.push_back(uint32_t(i));
+      }
+    const size_t active = object.active.size();
+    // Each active texel as a receiver (points: its centre) and as a source (sources: its core
+    // part's centroid and area; area 0 where it has none).
+    auto pointOn = [&](uint32_t triangle, const glm::vec3& w, float area) {
+      TexelPoint p;
+      glm::uvec3 v = wm.triangle(triangle);
+      p.triangle = triangle;
+      p.position = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+      glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
+      p.geometricNormal = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+      p.normal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : p.geometricNormal;
+      p.base = (*wm.materials)[triangle];
+      if (mesh.hasUvs()) p.uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
+      p.entry = uint32_t(entries[p.base].entryAt(mesh.hasUvs() ? &p.uv : nullptr));
+      p.area = area;
+      for (int k = 0; k < 3; ++k) p.vertices[k] = object.vertexOfCorner[3 * size_t(triangle) + size_t(k)];
+      p.beta = w;
+      return p;
+    };
+    std::vector<TexelPoint> points(active), sources(active);
+    for (size_t a = 0; a < active; ++a) {
+      const AtlasTexel& tx = atlas.texels[object.active[a]];
+      points[a] = pointOn(tx.triangle, tx.barycentric, 0.0f);
+      if (tx.area > 0.0f) sources[a] = pointOn(tx.sourceTriangle, tx.sourceBarycentric, tx.area);
+    }
+    auto sideOf = [&](const EntryProfile& in, const glm::vec3& ni, const glm::vec3& no) {
+      return in.tabulated ? float(sideWeight(double(glm::dot(ni, no)))) : 1.0f;
+    };
+
+    // Global response: F by receiving vertex, sources within the support on a uniform grid.
+    {
+      const int V = object.vertices;
+      PointGrid grid(object.vertexPositions, support);
+      const double galerkinReach = object.size.localRange;
+      std::vector<std::vector<std::pair<uint32_t, glm::vec3>>> rows(static_cast<size_t>(V));
+      parallelFor(size_t(V), 64, [&](size_t begin, size_t end) {
+        for (size_t j = begin; j < end; ++j) {
+          const glm::vec3& pj = object.vertexPositions[j];
+          const EntryProfile& out = profiles[vertexEntry[j]];
+          auto& row = rows[j];
+          grid.within(pj, support, [&](uint32_t i, double r) {
+            if (i == j) return;
+            const EntryProfile& in = profiles[vertexEntry[i]];
+            if (r >= std::max(in.support, out.support)) return;
+            glm::vec3 f(0.0f);
+            if (r < kGalerkinRanges * galerkinReach) {  // the hats' mean (convex profiles: interpolation overshoots)
+              for (const auto& a : sourceSamples[i])
+                for (const auto& b : receiverSamples[j])
+                  f += a.w * b.w * transport(in, out, double(glm::length(a.p - b.p)), vertexArea[i] / 6.0);
+            } else {
+              f = transport(in, out, r, vertexArea[i]);
+            }
+            f *= sideOf(in, vertexNormal[i], vertexNormal[j]);
+            if (double(std::max({f.x, f.y, f.z})) * vertexArea[j] < kFactorThreshold) return;
+            row.emplace_back(i, f);
+          });
+          std::sort(row.begin(), row.end(), [](const auto& a, const auto& c) { return a.first < c.first; });
+        }
+      }, progress, 0.0, 0.2);
+      object.rowStart.assign(size_t(V) + 1, 0);
+      for (int j = 0; j < V; ++j) object.rowStart[size_t(j) + 1] = object.rowStart[size_t(j)] + uint32_t(rows[size_t(j)].size());
+      size_t factorBytes = size_t(object.rowStart.back()) * 16;
+      size_t kernelBytes = size_t(double(active) * taps * 16.0);
+      if (used + factorBytes + kernelBytes > maxBytes)
+        fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: object " + std::to_string(object.objectId) + " needs " +
+                                    std::to_string((factorBytes + kernelBytes) >> 20) + " MiB of factors and kernels (" +
+                                    std::to_string(object.rowStart.back()) + " vertex pairs, " + std::to_string(active) +
+                                    " texels), more than the " + std::to_string((maxBytes - std::min(used, maxBytes)) >> 20) +
+                                    " MiB left of the memory budget (fewer vertices, or another method)");
+      object.column.reserve(object.rowStart.back());
+      object.factor.reserve(object.rowStart.back());
+      for (auto& row : rows)
+        for (auto& [i, f] : row) object.column.push_back(i), object.factor.push_back(f);
+    }
+    const size_t V = size_t(object.vertices);
+    // F(i -> j), 0 where not kept.
+    auto factorOf = [&](uint32_t i, uint32_t j) -> glm::vec3 {
+      if (i == j) return glm::vec3(0.0f);
+      auto first = object.column.begin() + object.rowStart[j], last = object.column.begin() + object.rowStart[size_t(j) + 1];
+      auto it = std::lower_bound(first, last, i);
+      return it != last && *it == i ? object.factor[size_t(it - object.column.begin())] : glm::vec3(0.0f);
+    };
+    // The global response at receiver q to unit flux at source s without the direct part, and the
+    // direct part's basis: at q, the weights of s's three vertices.
+    auto globalAt = [&](const TexelPoint& s, const TexelPoint& q, glm::vec3& g0, glm::vec3& basis) {
+      g0 = glm::vec3(0.0f), basis = glm::vec3(0.0f);
+      for (int jj = 0; jj < 3; ++jj) {
+        uint32_t j = q.vertices[jj];
+        float bj = q.beta[jj];
+        if (bj == 0.0f) continue;
+        for (int ii = 0; ii < 3; ++ii) {
+          uint32_t i = s.vertices[ii];
+          if (i == j) basis[ii] += bj;
+          else if (s.beta[ii] != 0.0f) g0 += bj * s.beta[ii] * factorOf(i, j);
+        }
+      }
+    };
+    // The core texels (the sources: each surface point once) on a grid; the local range.
+    std::vector<glm::vec3> corePositions;
+    std::vector<uint32_t> coreActive;
+    for (size_t a = 0; a < active; ++a)
+      if (sources[a].area > 0.0f) corePositions.push_back(sources[a].position), coreActive.push_back(uint32_t(a));
+    const double reach = object.size.localRange, texel = atlas.texel;
+    const double ringWidth = 1.5 * texel;
+    PointGrid cores(corePositions, reach + ringWidth);
+    // R_d from source texel s to receiver t: over the source's square when they are within
+    // kNearTexels, else its mean over the source's disk or ring (cellMean).
+    auto local = [&](const TexelPoint& s, int chart, const TexelPoint& t, double r) {
+      const EntryProfile& in = profiles[s.entry];
+      glm::vec3 k;
+      if (r < kNearTexels * texel) {
+        glm::vec3 d = t.position - s.position;
+        glm::dvec2 offset(glm::dot(d, atlas.chartU[size_t(chart)]), glm::dot(d, atlas.chartV[size_t(chart)]));
+        k = nearTransport(in, profiles[t.entry], r, s.area, offset);
+      } else {
+        k = transport(in, profiles[t.entry], r, s.area);
+      }
+      return k * sideOf(in, s.normal, t.normal);
+    };
+
+    // Direct weights: fitted on the receivers just past the local range (within ringWidth).
+    object.direct.assign(active, {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)});
+    parallelFor(coreActive.size(), 256, [&](size_t begin, size_t end) {
+      for (size_t ci = begin; ci < end; ++ci) {
+        size_t a = coreActive[ci];
+        const TexelPoint& s = sources[a];
+        int chart = atlas.texels[object.active[a]].chart;
+        glm::dmat3 m(0.0);
+        glm::dvec3 rhs[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+        cores.within(s.position, reach + ringWidth, [&](uint32_t qi, double r) {
+          if (r < reach) return;
+          const TexelPoint& q = sources[coreActive[qi]];  // (a receiver there)
+          glm::vec3 g0, basis;
+          globalAt(s, q, g0, basis);
+          if (basis == glm::vec3(0.0f)) return;
+          glm::vec3 target = local(s, chart, q, r);
+          glm::dvec3 bd(basis);
+          m += glm::outerProduct(bd, bd);
+          for (int c = 0; c < 3; ++c) rhs[c] += bd * double(target[c] - g0[c]);
+        });
+        double trace = m[0][0] + m[1][1] + m[2][2];
+        if (!(trace > 0.0)) continue;
+        glm::dmat3 inverse = glm::inverse(m + glm::dmat3(kRidge * trace / 3.0));
+        for (int c = 0; c < 3; ++c) {
+          glm::dvec3 w = inverse * rhs[c];
+          for (int k = 0; k < 3; ++k) object.direct[a][size_t(k)][c] = float(w[k]);
+        }
+      }
+    }, progress, 0.2, 0.2);
+
+    // Local kernels, per receiving texel: the core texels within the local range, across charts,
+    // R_d less the global response to them.
+    std::vector<std::vector<std::pair<uint32_t, glm::vec3>>> kernelLists(active);
+    parallelFor(active, 1024, [&](size_t begin, size_t end) {
+      // The factors into the receiver's three vertices, by source vertex (the rows of the last
+      // receiving triangle scattered: consecutive texels mostly share a triangle).
+      std::vector<std::array<glm::vec3, 3>> into(V, {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)});
+      uint32_t scattered = ~0u;
+      glm::uvec3 scatteredVertices(0u);
+      for (size_t a = begin; a < end; ++a) {
+        const TexelPoint& t = points[a];
+        if (t.triangle != scattered) {
+          if (scattered != ~0u)
+            for (int jj = 0; jj < 3; ++jj)
+              for (uint32_t k = object.rowStart[scatteredVertices[jj]]; k < object.rowStart[scatteredVertices[jj] + 1]; ++k)
+                into[object.column[k]][size_t(jj)] = glm::vec3(0.0f);
+          for (int jj = 0; jj < 3; ++jj)
+            for (uint32_t k = object.rowStart[t.vertices[jj]]; k < object.rowStart[t.vertices[jj] + 1]; ++k)
+              into[object.column[k]][size_t(jj)] = object.factor[k];
+          scattered = t.triangle, scatteredVertices = t.vertices;
+        }
+        auto& list = kernelLists[a];
+        cores.within(t.position, reach, [&](uint32_t si, double r) {
+          size_t sa = coreActive[si];
+          const TexelPoint& s = sources[sa];
+          glm::vec3 k = local(s, atlas.texels[object.active[sa]].chart, t, r);
+          // globalAt(s, t), with the scattered rows.
+          glm::vec3 g0(0.0f), basis(0.0f);
+          for (int jj = 0; jj < 3; ++jj) {
+            float bj = t.beta[jj];
+            if (bj == 0.0f) continue;
+            for (int ii = 0; ii < 3; ++ii) {
+              uint32_t i = s.vertices[ii];
+              if (i == t.vertices[jj]) basis[ii] += bj;
+              else g0 += bj * s.beta[ii] * into[i][size_t(jj)];
+            }
+          }
+          const auto& w = object.direct[sa];
+          k -= g0 + basis.x * w[0] + basis.y * w[1] + basis.z * w[2];
+          list.emplace_back(uint32_t(sa), k);
+        });
+      }
+    }, progress, 0.4, 0.6);
+    object.kernelStart.assign(active + 1, 0);
+    for (size_t a = 0; a < active; ++a) object.kernelStart[a + 1] = object.kernelStart[a] + uint32_t(kernelLists[a].size());
+    object.kernelSource.reserve(object.kernelStart.back());
+    object.kernelWeight.reserve(object.kernelStart.back());
+    for (auto& list : kernelLists) {
+      for (auto& [source, k] : list) object.kernelSource.push_back(source), object.kernelWeight.push_back(k);
+      std::vector<std::pair<uint32_t, glm::vec3>>().swap(list);
+    }
+    object.local.assign(atlas.texels.size(), glm::vec4(0.0f));
+    object.vertexExitance.assign(size_t(object.vertices), glm::vec4(0.0f));
+    used += object.bytes();
+  }
+  meshHash_ = hashMeshes(scene);
+  materialSignature_ = signature(scene);
+  valid_ = true;
+}
+
+void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& progress) {
+  require(valid_, "PRECOMPUTED: nothing precomputed");
+  if (identity(scene) != rayIdentity_) {  // the same translucent meshes; an occluder or a copy changed
+    rays_ = std::make_unique<RayScene>(scene);
+    rayIdentity_ = identity(scene);
+    for (Object& object : objects_)
+      for (size_t mi = 0; mi < rays_->meshes().size(); ++mi) {
+        for (const auto& [id, m] : scene.meshes())
+          if (id == object.objectId && rays_->meshes()[mi].mesh == &m) object.rayMesh = int(mi);
+      }
+  }
+  const std::vector<MaterialEntry>& entries = scene.denseMaterials();
+  EnteringLight light(scene, *rays_);
+  for (Object& object : objects_) {
+    const WorldMesh& wm = rays_->meshes()[size_t(object.rayMesh)];
+    const Mesh& mesh = *wm.mesh;
+    const Atlas& atlas = object.atlas;
+    const size_t active = object.active.size();
+    // 1. The illumination map: the flux through every texel (and times mu0).
+    std::vector<glm::vec3> flux(active, glm::vec3(0.0f)), fluxMu0(active, glm::vec3(0.0f));
+    parallelFor(active, 256, [&](size_t begin, size_t end) {
+      for (size_t a = begin; a < end; ++a) {
+        const AtlasTexel& tx = atlas.texels[object.active[a]];
+        if (tx.area <= 0.0f) continue;
+        glm::uvec3 v = wm.triangle(tx.sourceTriangle);
+        glm::vec3 w = tx.sourceBarycentric;
+        glm::vec3 p = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+        glm::vec3 ng = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+        glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
+        n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
+        uint32_t base = (*wm.materials)[tx.sourceTriangle];
+        glm::vec2 uv(0.0f);
+        if (mesh.hasUvs()) uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
+        uint32_t entry = uint32_t(entries[base].entryAt(mesh.hasUvs() ? &uv : nullptr));
+        Entering in = light.at(uint32_t(object.rayMesh), tx.sourceTriangle, p, ng, n, tx.area, base, entry, uv);
+        flux[a] = in.flux, fluxMu0[a] = in.fluxMu0;
+      }
+    }, progress, 0.0, 0.5);
+    // 2. Vertex shares and the direct part, from the core texels.
+    const size_t V = size_t(object.vertices);
+    std::vector<glm::vec3> share(V, glm::vec3(0.0f)), shareMu0(V, glm::vec3(0.0f));
+    std::vector<glm::vec3> direct(V, glm::vec3(0.0f)), directMu0(V, glm::vec3(0.0f));
+    for (size_t a = 0; a < active; ++a) {
+      const AtlasTexel& tx = atlas.texels[object.active[a]];
+      if (tx.area <= 0.0f) continue;
+      for (int k = 0; k < 3; ++k) {
+        uint32_t vertex = object.vertexOfCorner[3 * size_t(tx.sourceTriangle) + size_t(k)];
+        share[vertex] += tx.sourceBarycentric[k] * flux[a];
+        shareMu0[vertex] += tx.sourceBarycentric[k] * fluxMu0[a];
+        direct[vertex] += object.direct[a][size_t(k)] * flux[a];
+        directMu0[vertex] += object.direct[a][size_t(k)] * fluxMu0[a];
+      }
+    }
+    // 3. The global response at the vertices.
+    parallelFor(V, 256, [&](size_t begin, size_t end) {
+      for (size_t j = begin; j < end; ++j) {
+        glm::vec3 b = direct[j], bMu0 = directMu0[j];
+        for (uint32_t k = object.rowStart[j]; k < object.rowStart[j + 1]; ++k) {
+          b += object.factor[k] * share[object.column[k]];
+          bMu0 += object.factor[k] * shareMu0[object.column[k]];
+        }
+        object.vertexExitance[j] = glm::vec4(b, bMu0.x + bMu0.y + bMu0.z);
+      }
+    }, progress, 0.5, 0.1);
+    // 4. The local response in the atlas.
+    parallelFor(active, 256, [&](size_t begin, size_t end) {
+      for (size_t a = begin; a < end; ++a) {
+        glm::vec3 b(0.0f);
+        float alpha = 0.0f;
+        for (uint32_t k = object.kernelStart[a]; k < object.kernelStart[a + 1]; ++k) {
+          const glm::vec3& w = object.kernelWeight[k];
+          uint32_t s = object.kernelSource[k];
+          b += w * flux[s];
+          glm::vec3 m = w * fluxMu0[s];
+          alpha += m.x + m.y + m.z;
+        }
+        object.local[object.active[a]] = glm::vec4(b, alpha);
+      }
+    }, progress, 0.6, 0.4);
+  }
+}
+
+}  // namespace subsplat

@@ -1,0 +1,111 @@
+// PRECOMPUTED (Lensch et al. 2002; docs/PRECOMPUTED.md): the transport of every translucent object
+// precomputed once, per object, for a rigid mesh and its materials; each frame then relights it.
+//
+// Precomputation, per object:
+//   - the atlas (precomputed/atlas.h) at a texel chosen from the mesh and the profiles
+//     (choosePrecomputation), and the welded vertices with their areas A_i (a third of the
+//     triangles around) and profiles;
+//   - global response: the vertex-to-vertex factors F_ij = R_d(v_i, v_j) for i != j (the diagonal
+//     is zero), R_d the profile's mean over the source vertex's area, kept where F_ij A_j carries at
+//     least kFactorThreshold of a unit flux (a sparse matrix by receiver);
+//   - direct weights (Section 5.4): per texel t, per channel, w_v(t) for its triangle's three
+//     vertices, fitted by least squares so that the global response (F plus the direct part
+//     D_v = sum_t w_v(t) Phi(t), both linearly interpolated) matches R_d on the ring of texels just
+//     outside t's kernel;
+//   - local response: per receiving texel t, a (2k + 1)^2 kernel over the source texels s around it,
+//     K(t <- s) = R_d(x_s, x_t) - (the global response at x_t to unit flux at s): within the kernel
+//     the sum is R_d, outside it the global response alone.
+// A frame: the flux Phi(t) = E dA of every texel (REFERENCE's entering light: shadow rays, Fresnel,
+// the TABULATED incidence factor, the tint), its vertex shares Phi_i = sum_t beta_i(t) Phi(t),
+// B_j = sum_i F_ij Phi_i + D_j at the vertices, and B_l(t) = sum_s K(t <- s) Phi(s) in the atlas;
+// B(x) = B_l(x) + sum_j beta_j(x) B_j. Alpha carries the TABULATED model's exitance-weighted
+// incidence cosine (the same operators applied to the flux times mu0, summed over the channels).
+// R_d(x_i, x_o) = sqrt(P_i P_o) between different profiles (eq. 8 of Chen et al.); under TABULATED,
+// times sideWeight(n_i . n_o) of the mesh's normals.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "precomputed/atlas.h"
+#include "scene.h"
+#include "util/parallel.h"
+
+namespace subsplat {
+
+class RayScene;
+
+// The texel and kernel of one object (docs/PRECOMPUTED.md, "Sizes").
+struct PrecomputationSize {
+  float texel = 0.0f;  // world units
+  int radius = 3;      // kernel half-width, texels: (2 radius + 1)^2 taps
+  float localRange = 0.0f, edge = 0.0f, detail = 0.0f;  // what they were chosen from (world units)
+};
+
+class PrecomputedTransport {
+ public:
+  static constexpr int kMinRadius = 3, kMaxRadius = 10;
+  static constexpr double kDetailTexel = 0.7;  // the texel, of the finest half-energy radius
+  static constexpr double kFactorThreshold = 1e-6;
+  static constexpr double kLocalEdges = 4.0;  // the local response reaches this many mean edges
+  // The kernels' and factors' memory, all objects together, unless the caller's budget is lower.
+  static constexpr size_t kDefaultBytes = size_t(512) << 20;
+
+  PrecomputedTransport();
+  ~PrecomputedTransport();
+  PrecomputedTransport(const PrecomputedTransport&) = delete;
+  PrecomputedTransport& operator=(const PrecomputedTransport&) = delete;
+  // Whether the precomputation is for this scene's meshes and materials (lights, camera, settings
+  // and textures may differ).
+  bool serves(const Scene& scene) const;
+  // Precomputes for every translucent object of `scene` (materials resolved) within `maxBytes`.
+  void precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress);
+  // One frame under the scene's lights.
+  void relight(const Scene& scene, const ProgressFunction& progress);
+  void clear();
+
+  struct Object {
+    uint32_t objectId = 0;
+    int rayMesh = 0;  // index into the RayScene's meshes
+    PrecomputationSize size;
+    Atlas atlas;
+    std::vector<uint32_t> active;   // texels with a point (not kEmpty)
+    std::vector<int32_t> activeOf;  // texel -> index into active, or -1
+    // Per receiving active texel: its sources (active indices of core texels) and their weights.
+    std::vector<uint32_t> kernelStart, kernelSource;
+    std::vector<glm::vec3> kernelWeight;
+    int vertices = 0;
+    std::vector<uint32_t> vertexOfCorner;  // 3 per triangle; ~0u outside the atlas
+    std::vector<glm::vec3> vertexPositions;
+    std::vector<uint32_t> rowStart, column;  // F by receiving vertex: sources, ascending
+    std::vector<glm::vec3> factor;
+    std::vector<std::array<glm::vec3, 3>> direct;  // per active texel: w of its triangle's vertices
+    size_t factors() const { return column.size(); }
+    size_t bytes() const;
+    // The last frame's: B_l per texel (rgb, alpha), B per vertex.
+    std::vector<glm::vec4> local, vertexExitance;
+  };
+  const std::vector<Object>& objects() const { return objects_; }
+  size_t bytes() const;
+
+ private:
+  std::vector<Object> objects_;
+  bool valid_ = false;
+  uint64_t meshHash_ = 0;
+  std::vector<double> materialSignature_;
+  std::unique_ptr<RayScene> rays_;
+  std::vector<const void*> rayIdentity_;  // the meshes the RayScene points into
+  static uint64_t hashMeshes(const Scene& scene);
+  static std::vector<double> signature(const Scene& scene);
+  static std::vector<const void*> identity(const Scene& scene);
+};
+
+// The texel and kernel size of an object of surface `area` (world units^2) with mean edge
+// `edge`, profiles reaching `support` whose finest half-energy radius is `detail` (world units),
+// within maxTexels texels of kernels of at most kMaxRadius.
+PrecomputationSize choosePrecomputation(double area, double edge, double support, double detail, size_t maxBytes);
+
+}  // namespace subsplat
