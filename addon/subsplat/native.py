@@ -11,14 +11,14 @@ import threading
 
 import numpy as np
 
-API_VERSION = 20  # SS_API_VERSION of subsplat.h
+API_VERSION = 21  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
 SS_GL_ERROR = 4
 SS_CANCELLED = 7
 SS_METHOD_BRUTE, SS_METHOD_MULTIRES, SS_METHOD_ADAPTIVE, SS_METHOD_FULL, SS_METHOD_REFERENCE = 0, 1, 2, 3, 4
-SS_METHOD_MATERIAL_EDIT = 5
+SS_METHOD_MATERIAL_EDIT, SS_METHOD_PRECOMPUTED = 5, 6
 SS_LIGHT_POINT, SS_LIGHT_SPOT, SS_LIGHT_SUN, SS_LIGHT_WORLD, SS_LIGHT_AREA = 0, 1, 2, 3, 4
 AREA_SHAPES = {"SQUARE": 0, "RECTANGLE": 1, "DISK": 2, "ELLIPSE": 3}
 SS_MATERIAL_OPAQUE, SS_MATERIAL_DIPOLE, SS_MATERIAL_SUBEDIT, SS_MATERIAL_HOLDOUT = 0, 1, 2, 3
@@ -29,7 +29,8 @@ SS_TEXTURE_LINEAR, SS_TEXTURE_CLOSEST = 0, 1
 
 # The plain data's names (export.data) for them.
 METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE": SS_METHOD_ADAPTIVE,
-           "FULL": SS_METHOD_FULL, "REFERENCE": SS_METHOD_REFERENCE, "MATERIAL_EDIT": SS_METHOD_MATERIAL_EDIT}
+           "FULL": SS_METHOD_FULL, "REFERENCE": SS_METHOD_REFERENCE, "MATERIAL_EDIT": SS_METHOD_MATERIAL_EDIT,
+           "PRECOMPUTED": SS_METHOD_PRECOMPUTED}
 LIGHT_TYPES = {"POINT": SS_LIGHT_POINT, "SPOT": SS_LIGHT_SPOT, "SUN": SS_LIGHT_SUN, "WORLD": SS_LIGHT_WORLD,
                "AREA": SS_LIGHT_AREA}
 MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "SUBEDIT": SS_MATERIAL_SUBEDIT,
@@ -150,7 +151,9 @@ class Stats(ctypes.Structure):
                 ("shadow_resolution", ctypes.c_int32), ("splatting_complete", ctypes.c_int32),
                 ("splatting_progress", ctypes.c_float), ("target_reachable", ctypes.c_int32),
                 ("precompute_ms", ctypes.c_double), ("transport_reused", ctypes.c_int32),
-                ("transport_full_pipeline", ctypes.c_int32)]
+                ("transport_full_pipeline", ctypes.c_int32),
+                ("precomputed_bytes", ctypes.c_uint64), ("precomputed_texels", ctypes.c_uint64),
+                ("precomputed_factors", ctypes.c_uint64), ("relight_ms", ctypes.c_double)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -693,4 +696,8 @@ class Context:
             # (0 when it reused it), whether it reused it, and whether a heterogeneous material made it FULL's
             "precompute_ms": s.precompute_ms, "transport_reused": bool(s.transport_reused),
             "transport_full_pipeline": bool(s.transport_full_pipeline),
+            # PRECOMPUTED (docs/PRECOMPUTED.md; precompute_ms and transport_reused as above): what its
+            # precomputation holds, and the CPU time of this render's relighting
+            "precomputed_bytes": int(s.precomputed_bytes), "precomputed_texels": int(s.precomputed_texels),
+            "precomputed_factors": int(s.precomputed_factors), "relight_ms": s.relight_ms,
         }

@@ -21,6 +21,11 @@ METHOD_ITEMS = [
      "Full's samples splatted once into the transport of a basis of profiles (Xu et al. 2007); while the "
      "meshes, lights, camera and size stay as they were, an edit of a homogeneous material only recombines "
      "it (docs/MATERIAL_EDIT.md). A scene with a SubEdit material is rendered as Full"),
+    ("PRECOMPUTED", "Precomputed",
+     "Lensch et al. 2002: each translucent object's response precomputed once (an atlas of per-texel "
+     "kernels and vertex-to-vertex factors), then relit on the CPU under moving lights and cameras. Any "
+     "change of a translucent mesh (deformation, modifiers, another frame) or of a material precomputes it "
+     "again (docs/PRECOMPUTED.md)"),
 ]
 
 

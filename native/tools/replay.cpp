@@ -22,7 +22,7 @@
 
 namespace {
 
-const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT"};
+const char* const kMethodNames[] = {"BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT", "PRECOMPUTED"};
 const char* const kStageNames[] = {"buffers", "splatting", "shading", "readback"};
 
 // A method, optionally with its own level count and epsilon: "FULL:0" is FULL with

@@ -84,16 +84,16 @@ class GlStateUnchanged(unittest.TestCase):
         scene.subsplat.reference_samples = 2000
         subsplat.diagnostics.check_gl_state = True
         try:
-            for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT"):
+            for method in ("BRUTE", "MULTIRES", "ADAPTIVE", "FULL", "REFERENCE", "MATERIAL_EDIT", "PRECOMPUTED"):
                 with self.subTest(method=method):
                     scene.subsplat.method = method
-                    scene.subsplat.debug_passes = method not in ("REFERENCE", "MATERIAL_EDIT")
+                    scene.subsplat.debug_passes = method not in ("REFERENCE", "MATERIAL_EDIT", "PRECOMPUTED")
                     bpy.ops.render.render()
                     self.assertIsNone(subsplat.last_render_error())
                     stats = subsplat.last_render_stats()
                     self.assertEqual(stats["gl_state_changes"], [])
-                    # the first MATERIAL_EDIT render precomputes its transport
-                    self.assertEqual(stats["precompute_ms"] > 0, method == "MATERIAL_EDIT")
+                    # the first MATERIAL_EDIT and PRECOMPUTED renders precompute their transport
+                    self.assertEqual(stats["precompute_ms"] > 0, method in ("MATERIAL_EDIT", "PRECOMPUTED"))
                     self.assertFalse(stats["transport_reused"])
         finally:
             subsplat.diagnostics.check_gl_state = False

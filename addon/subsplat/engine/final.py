@@ -20,7 +20,10 @@ def level_pass(k):
 
 
 # Methods whose renders have the exitance pass only.
-NO_DEBUG_PASSES = ("REFERENCE", "MATERIAL_EDIT")
+NO_DEBUG_PASSES = ("REFERENCE", "MATERIAL_EDIT", "PRECOMPUTED")
+# The methods whose native context (and so their precomputation) is kept from one final render to
+# the next (docs/MATERIAL_EDIT.md, "Final renders"; docs/PRECOMPUTED.md).
+KEPT_METHODS = ("MATERIAL_EDIT", "PRECOMPUTED")
 
 
 def pass_names(scene):
@@ -71,9 +74,10 @@ def render_image(engine, depsgraph, preview):
         engine.report({"WARNING"}, f"SubSplat: {budget_warning}")
     native.set_memory_budget(preferences.memory_budget_bytes())
     # The native context's GL objects belong to the render GL context, current only inside render().
-    # MATERIAL_EDIT keeps its context (and so its transport) from one final render to the next
-    # while that GL context is the one current (docs/MATERIAL_EDIT.md, "Final renders").
-    keep = settings.method == "MATERIAL_EDIT" and not preview
+    # MATERIAL_EDIT and PRECOMPUTED keep their context (and so their precomputation) from one final
+    # render to the next while that GL context is the one current (docs/MATERIAL_EDIT.md, "Final
+    # renders"; docs/PRECOMPUTED.md): F12 again, or the next frame of an animation.
+    keep = settings.method in KEPT_METHODS and not preview
     context = _kept_context(frame, render_settings) if keep else None
     kept = context is not None
     if not keep and not preview:  # a material preview (a thumbnail while editing) leaves it be
@@ -140,7 +144,7 @@ def render_image(engine, depsgraph, preview):
 
 
 class _Kept:
-    """The native context of the last MATERIAL_EDIT final render and what it was sent."""
+    """The native context of the last MATERIAL_EDIT or PRECOMPUTED final render and what it was sent."""
     context = None
     meshes = ()
     lights = None
@@ -153,7 +157,7 @@ class _Kept:
 
 
 def release_kept():
-    """Releases the kept MATERIAL_EDIT context (another method's render, the add-on's unregistering).
+    """Releases the kept MATERIAL_EDIT or PRECOMPUTED context (another method's render, the add-on's unregistering).
     Its GL objects are deleted when their GL context is next current (SsResourceCounts)."""
     if _Kept.context is not None:
         _Kept.context.release_quietly()

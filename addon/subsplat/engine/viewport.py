@@ -389,6 +389,10 @@ class ViewportSession:
             progress += ("rendered with Full (a SubEdit material), " if self.stats["transport_full_pipeline"] else
                          "transport reused, " if self.stats["transport_reused"] else
                          f"transport precomputed in {self.stats['precompute_ms']:.0f} ms, ")
+        if self.counters.frame_method == "PRECOMPUTED":  # docs/PRECOMPUTED.md
+            progress += ((f"relit in {self.stats['relight_ms']:.0f} ms" if self.stats["transport_reused"] else
+                          f"precomputed in {self.stats['precompute_ms']:.0f} ms") +
+                         f" ({self.stats['precomputed_bytes'] / 2**20:.0f} MiB), ")
         engine.update_stats("", f"SubSplat {chosen.replace('_', ' ').title()}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance"

@@ -23,21 +23,26 @@ void PrecomputedDisplay::resize(int width, int height) {
 }
 
 void PrecomputedDisplay::draw(const PrecomputedTransport& transport, const Scene& scene, const SsCameraDesc& camera,
-                              const SplattingBuffer& buffer) {
+                              const SplattingBuffer& /*buffer*/) {
   const auto& objects = transport.objects();
   if (objects_.size() != objects.size()) objects_.resize(objects.size());
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  // The passes before leave their state: additive blending (the direct light), culling (the exit
+  // depth of TABULATED materials).
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   GLuint p = program_.id();
   glUseProgram(p);
   glm::mat4 viewProj = glm::make_mat4(camera.view_to_clip) * glm::make_mat4(camera.world_to_view);
   glUniformMatrix4fv(uniform(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
-  bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, buffer.positionObject());
   for (size_t o = 0; o < objects.size(); ++o) {
     const PrecomputedTransport::Object& object = objects[o];
     ObjectGpu& gpu = objects_[o];
@@ -82,7 +87,6 @@ void PrecomputedDisplay::draw(const PrecomputedTransport& transport, const Scene
     glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
     glEnableVertexAttribArray(2);
     glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(5 * sizeof(float)));
-    glUniform1f(uniform(p, "objectIndex"), float(mesh->index));
     bindTexture(gl::UNIT_EXITANCE_BUFFER, GL_TEXTURE_2D, gpu.local.id());
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(gpu.corners));
     glBindVertexArray(0);
