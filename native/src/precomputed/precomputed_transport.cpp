@@ -443,10 +443,23 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     // The atlas.
     size_t left = maxBytes > used ? maxBytes - used : 0;
     object.size = choosePrecomputation(area, edge, support, detail, left);
-    const int R = object.size.radius;
-    const double taps = M_PI * (R + 0.5) * (R + 0.5);
-    size_t maxTexels = std::max<size_t>(size_t(double(left) / (taps * 16.0 + 96.0)), 4096);
-    object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
+    // The atlas's borders and packing may take more texels than choosePrecomputation allowed for
+    // (many small charts): a coarser texel then, until it fits (the kernels reach as far).
+    double taps = 0.0;
+    for (int attempt = 0;; ++attempt) {
+      const int radius = object.size.radius;
+      taps = M_PI * (radius + 0.5) * (radius + 0.5);
+      size_t maxTexels = std::max<size_t>(size_t(double(left) / (taps * 16.0 + 96.0)), 4096);
+      try {
+        object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
+        break;
+      } catch (const Error& e) {
+        if (e.status() != SS_LIMIT_EXCEEDED || attempt >= 16) throw;
+      }
+      object.size.texel *= 1.25f;
+      object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
+                                      kMaxRadius);
+    }
     const Atlas& atlas = object.atlas;
     object.activeOf.assign(atlas.texels.size(), -1);
     for (size_t i = 0; i < atlas.texels.size(); ++i)
