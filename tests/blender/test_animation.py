@@ -26,15 +26,6 @@ SMALL = ("import bpy; s = bpy.context.scene; s.render.resolution_percentage = 25
          "s.render.image_settings.file_format = 'OPEN_EXR'; s.render.image_settings.color_depth = '32'")
 
 
-def read_exr(path):
-    image = bpy.data.images.load(path, check_existing=False)
-    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    shape = (image.size[1], image.size[0], 4)
-    bpy.data.images.remove(image)
-    return pixels.reshape(shape)
-
-
 def growing_mesh_scene():
     """A skin sphere whose subdivision level is animated 0, 1, 2, 1: its vertex count changes every
     frame. Saved as animation_growing.blend."""
@@ -80,13 +71,13 @@ class AnimationRendersAreDeterministic(unittest.TestCase):
         result = helpers.run_blender(path, "--python-expr", expr, "-E", "SUBSPLAT", "-o", sequence_out,
                                      "-s", str(first), "-e", str(last), "-j", str(step), "-a", env=env)
         self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
-        sequence = {f: read_exr(f"{sequence_out}{f:04d}.exr") for f in frames}
+        sequence = {f: helpers.read_exr(f"{sequence_out}{f:04d}.exr") for f in frames}
         singles = {}
         for f in frames:
             result = helpers.run_blender(path, "--python-expr", expr, "-E", "SUBSPLAT", "-o", single_out,
                                          "-f", str(f), env=env)
             self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
-            singles[f] = read_exr(f"{single_out}{f:04d}.exr")
+            singles[f] = helpers.read_exr(f"{single_out}{f:04d}.exr")
         return sequence, singles
 
     def assert_same(self, name, sequence, singles, relative):

@@ -9,7 +9,6 @@
 Images of any difference go to $SUBSPLAT_TEST_OUTPUT/precomputed_*.
 """
 import glob
-import math
 import os
 import unittest
 
@@ -49,15 +48,6 @@ def sphere_scene(name, deforming):
     path = os.path.join(helpers.OUTPUT, f"precomputed_{name}.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     return scene, material, path
-
-
-def read_exr(path):
-    image = bpy.data.images.load(path, check_existing=False)
-    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    shape = (image.size[1], image.size[0], 4)
-    bpy.data.images.remove(image)
-    return pixels.reshape(shape)
 
 
 class PrecomputationAcrossRenders(unittest.TestCase):
@@ -106,12 +96,14 @@ class AnimationEqualsSingleFrames(unittest.TestCase):
                                          "-f", str(f))
             self.assertEqual(result.returncode, 0, result.stdout[-3000:] + result.stderr[-3000:])
         for f in frames:
-            a, b = read_exr(f"{sequence_out}{f:04d}.exr"), read_exr(f"{single_out}{f:04d}.exr")
+            a = helpers.read_exr(f"{sequence_out}{f:04d}.exr")
+            b = helpers.read_exr(f"{single_out}{f:04d}.exr")
             self.assertTrue(np.all(np.isfinite(a)))
             if not np.array_equal(a, b):
                 path = helpers.write_difference(f"precomputed_{name}_{f:04d}", a, b)
                 self.fail(f"{name} frame {f}: the -a run's frame differs from the single render; see {path}")
-        first, last = read_exr(f"{sequence_out}{frames[0]:04d}.exr"), read_exr(f"{sequence_out}{frames[-1]:04d}.exr")
+        first = helpers.read_exr(f"{sequence_out}{frames[0]:04d}.exr")
+        last = helpers.read_exr(f"{sequence_out}{frames[-1]:04d}.exr")
         changed = float(np.mean(np.any(np.abs(first - last) > 1e-4, axis=-1)))
         self.assertGreater(changed, 0.01, f"{name}: the first and last frames look the same")
 

@@ -174,6 +174,16 @@ def dipole_total_reflectance(sigma_a, sigma_s_prime, eta):
     return albedo / 2 * (1 + math.exp(-4 / 3 * big_a * root)) * math.exp(-root)
 
 
+def read_exr(path):
+    """An image file (the EXRs a `blender -a` run writes) as float32 RGBA, bottom row first."""
+    image = bpy.data.images.load(path, check_existing=False)
+    pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    shape = (image.size[1], image.size[0], 4)
+    bpy.data.images.remove(image)
+    return pixels.reshape(shape)
+
+
 def _save_png(rgba, path):
     image = bpy.data.images.new(os.path.basename(path), rgba.shape[1], rgba.shape[0], float_buffer=False)
     image.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())

@@ -374,8 +374,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     std::vector<float> vertexArea;
     std::vector<glm::vec3> vertexNormal;
     std::vector<uint32_t> vertexEntry;
-    double edgeSum = 0.0;
-    size_t edgeCount = 0;
+    std::vector<float> edges;
     for (size_t t = 0; t < triangles; ++t) {
       if (!include[t]) continue;
       glm::uvec3 v = wm.triangle(uint32_t(t));
@@ -394,8 +393,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         object.vertexOfCorner[3 * t + size_t(k)] = c;
         vertexArea[c] += triArea / 3.0f;
         vertexNormal[c] += wm.normals[v[k]];
-        edgeSum += double(glm::length(wm.positions[v[(k + 1) % 3]] - wm.positions[v[k]]));
-        ++edgeCount;
+        edges.push_back(glm::length(wm.positions[v[(k + 1) % 3]] - wm.positions[v[k]]));
       }
     }
     object.vertices = int(object.vertexPositions.size());
@@ -438,7 +436,15 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     for (auto& v : sourceSamples) merge(v);
     for (auto& v : receiverSamples) merge(v);
     for (glm::vec3& n : vertexNormal) n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0, 0, 1);
-    double edge = edgeCount ? edgeSum / double(edgeCount) : 0.0;
+    // The edge the local range is counted in: the mean, or half the 95th percentile where long
+    // edges are common (a cylinder's sides), so that the local range covers most triangles' stars.
+    double edge = 0.0;
+    if (!edges.empty()) {
+      double sum = 0.0;
+      for (float e : edges) sum += double(e);
+      std::nth_element(edges.begin(), edges.begin() + ptrdiff_t(edges.size() * 95 / 100), edges.end());
+      edge = std::max(sum / double(edges.size()), 0.5 * double(edges[edges.size() * 95 / 100]));
+    }
 
     // The atlas.
     size_t left = maxBytes > used ? maxBytes - used : 0;
@@ -496,6 +502,10 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       return in.tabulated ? float(sideWeight(double(glm::dot(ni, no)))) : 1.0f;
     };
 
+    // Where the local range covers the profile's support, the local kernels are the whole response
+    // and the global branch (factors and direct weights) has nothing to add: its interpolation over
+    // triangles larger than the profile would spread light where none arrives.
+    const bool globalBranch = object.size.localRange < 0.999 * support;
     // Global response: F by receiving vertex, sources within the support on a uniform grid.
     {
       const int V = object.vertices;
@@ -507,6 +517,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
           const glm::vec3& pj = object.vertexPositions[j];
           const EntryProfile& out = profiles[vertexEntry[j]];
           auto& row = rows[j];
+          if (!globalBranch) continue;
           grid.within(pj, support, [&](uint32_t i, double r) {
             if (i == j) return;
             const EntryProfile& in = profiles[vertexEntry[i]];
@@ -589,7 +600,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
 
     // Direct weights: fitted on the receivers just past the local range (within ringWidth).
     object.direct.assign(active, {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)});
-    parallelFor(coreActive.size(), 256, [&](size_t begin, size_t end) {
+    parallelFor(globalBranch ? coreActive.size() : 0, 256, [&](size_t begin, size_t end) {
       for (size_t ci = begin; ci < end; ++ci) {
         size_t a = coreActive[ci];
         const TexelPoint& s = sources[a];
