@@ -522,7 +522,7 @@ void Renderer::renderPrecomputed(int width, int height) {
     stats_.precomputed_texels += o.active.size();
     stats_.precomputed_factors += o.factors();
   }
-  precomputedDisplay_.draw(precomputedTransport_, scene_, scene_.camera(), splatting_);
+  precomputedDisplay_.draw(precomputedTransport_, scene_, scene_.camera());
 }
 
 void Renderer::recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,

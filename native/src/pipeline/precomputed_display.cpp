@@ -3,7 +3,6 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "pipeline/pass_helpers.h"
-#include "reference/ray_scene.h"
 #include "util/error.h"
 
 namespace subsplat {
@@ -22,8 +21,7 @@ void PrecomputedDisplay::resize(int width, int height) {
   height_ = height;
 }
 
-void PrecomputedDisplay::draw(const PrecomputedTransport& transport, const Scene& scene, const SsCameraDesc& camera,
-                              const SplattingBuffer& /*buffer*/) {
+void PrecomputedDisplay::draw(const PrecomputedTransport& transport, const Scene& scene, const SsCameraDesc& camera) {
   const auto& objects = transport.objects();
   if (objects_.size() != objects.size()) objects_.resize(objects.size());
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "gl/gl.h"
-#include "pipeline/splatting_buffer.h"
 #include "precomputed/precomputed_transport.h"
 #include "scene.h"
 
@@ -14,10 +13,10 @@ namespace subsplat {
 class PrecomputedDisplay {
  public:
   void resize(int width, int height);
-  // Draws each object's triangles with their atlas's local response and their vertices' global
-  // response, at the pixels where `buffer` (seen by `camera`) shows the object.
-  void draw(const PrecomputedTransport& transport, const Scene& scene, const SsCameraDesc& camera,
-            const SplattingBuffer& buffer);
+  // Draws each object's triangles, seen by `camera`, with their atlas's local response and their
+  // vertices' global response; the nearest surface wins (the final shading reads the exitance only
+  // where the camera's buffers show a translucent surface).
+  void draw(const PrecomputedTransport& transport, const Scene& scene, const SsCameraDesc& camera);
   GLuint exitance() const { return exitance_.id(); }
 
  private:

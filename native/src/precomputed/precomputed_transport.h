@@ -5,16 +5,17 @@
 //   - the atlas (precomputed/atlas.h) at a texel chosen from the mesh and the profiles
 //     (choosePrecomputation), and the welded vertices with their areas A_i (a third of the
 //     triangles around) and profiles;
-//   - global response: the vertex-to-vertex factors F_ij = R_d(v_i, v_j) for i != j (the diagonal
-//     is zero), R_d the profile's mean over the source vertex's area, kept where F_ij A_j carries at
-//     least kFactorThreshold of a unit flux (a sparse matrix by receiver);
-//   - direct weights (Section 5.4): per texel t, per channel, w_v(t) for its triangle's three
+//   - global response (only where the profile reaches past the local range): the vertex-to-vertex
+//     factors F_ij for i != j (the diagonal is zero): the hats' mean of R_d for near pairs
+//     (Galerkin), R_d between the vertices beyond, kept where F_ij A_j carries at least
+//     kFactorThreshold of a unit flux (a sparse matrix by receiver);
+//   - direct weights (Section 5.4): per source texel t, per channel, w_v(t) for its triangle's three
 //     vertices, fitted by least squares so that the global response (F plus the direct part
-//     D_v = sum_t w_v(t) Phi(t), both linearly interpolated) matches R_d on the ring of texels just
-//     outside t's kernel;
-//   - local response: per receiving texel t, a (2k + 1)^2 kernel over the source texels s around it,
-//     K(t <- s) = R_d(x_s, x_t) - (the global response at x_t to unit flux at s): within the kernel
-//     the sum is R_d, outside it the global response alone.
+//     D_v = sum_t w_v(t) Phi(t), both linearly interpolated) matches R_d on the receivers just
+//     past the local range;
+//   - local response: per receiving texel t, a kernel over the source texels s within the local
+//     range in 3D (across charts), K(t <- s) = R_d(x_s, x_t) - (the global response at x_t to unit
+//     flux at s): within the local range the sum is R_d, beyond it the global response alone.
 // A frame: the flux Phi(t) = E dA of every texel (REFERENCE's entering light: shadow rays, Fresnel,
 // the TABULATED incidence factor, the tint), its vertex shares Phi_i = sum_t beta_i(t) Phi(t),
 // B_j = sum_i F_ij Phi_i + D_j at the vertices, and B_l(t) = sum_s K(t <- s) Phi(s) in the atlas;
