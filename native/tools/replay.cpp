@@ -60,7 +60,9 @@ struct Options {
   if (!problem.empty()) std::fprintf(stderr, "subsplat_replay: %s\n\n", problem.c_str());
   std::fprintf(stderr,
                "usage: subsplat_replay [options] SCENE.ssscene...\n"
-               "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four);\n"
+               "  --methods LIST          comma-separated, from BRUTE,MULTIRES,ADAPTIVE,FULL (default: all four),\n"
+               "                          MATERIAL_EDIT, PRECOMPUTED (their first render precomputes: give\n"
+               "                          --warmup 1 to time the renders that reuse it);\n"
                "                          METHOD:N gives that entry N levels (FULL:0: FULL with automatic levels),\n"
                "                          METHOD[:N]@E epsilon E (FULL:3@0.01)\n"
                "  --runs N                renders per method, round-robin (default 3)\n"
@@ -104,9 +106,10 @@ Options parse(int argc, char** argv) {
         size_t at = entry.find('@');
         std::string head = entry.substr(0, at);
         std::string name = head.substr(0, head.find(':'));
-        auto it = std::find_if(std::begin(kMethodNames), std::begin(kMethodNames) + SS_METHOD_REFERENCE,
-                               [&](const char* m) { return name == m; });
-        if (it == std::begin(kMethodNames) + SS_METHOD_REFERENCE) usage("unknown method " + name);
+        // REFERENCE is the errors' measure, rendered once after the runs (--no-reference skips it).
+        auto it = std::find_if(std::begin(kMethodNames), std::end(kMethodNames),
+                               [&](const char* m) { return name == m && name != "REFERENCE"; });
+        if (it == std::end(kMethodNames)) usage("unknown method " + name);
         int levels = -1;
         if (head.find(':') != std::string::npos) levels = parseInt(head.substr(head.find(':') + 1), "levels");
         if (levels > 8) usage("levels of " + entry + " must be in [0, 8]");
@@ -297,6 +300,9 @@ Image render(SsContext context, const SsSettings& settings, int width, int heigh
       std::printf("  render %d: %.0f ms (GPU: buffers %.0f, splatting %.0f, shading %.0f), progress %.3f\n",
                   r.renders + 1, stats.frame_ms, stats.stage_ms[SS_STAGE_BUFFERS], stats.stage_ms[SS_STAGE_SPLATTING],
                   stats.stage_ms[SS_STAGE_SHADING], stats.splatting_progress);
+    if (std::getenv("SUBSPLAT_REPLAY_DEBUG") && settings.method == SS_METHOD_PRECOMPUTED)
+      std::printf("  precomputed in %.0f ms (reused %d), relit in %.0f ms, %.0f MiB\n", stats.precompute_ms,
+                  stats.transport_reused, stats.relight_ms, double(stats.precomputed_bytes) / 1048576.0);
     if (r.renders == 0) r.firstMs = stats.frame_ms;
     ++r.renders;
     r.longestMs = std::max(r.longestMs, stats.frame_ms);
@@ -444,7 +450,9 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     json << ", \"splat_level_fragments\": ";
     jsonList<uint64_t>(json, st.splat_levels, [&](int k) { return st.splat_level_fragments[k]; });
     json << ", \"accumulation_ms\": " << st.accumulation_ms
-         << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count;
+         << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count
+         << ", \"precompute_ms\": " << st.precompute_ms << ", \"transport_reused\": " << st.transport_reused
+         << ", \"relight_ms\": " << st.relight_ms << ", \"precomputed_bytes\": " << st.precomputed_bytes;
     if (!r.budgetRuns.empty()) {
       json << ", \"budget_runs\": [";
       for (size_t i = 0; i < r.budgetRuns.size(); ++i) {
