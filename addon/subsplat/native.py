@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 21  # SS_API_VERSION of subsplat.h
+API_VERSION = 22  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -161,9 +161,17 @@ class ProfileInfo(ctypes.Structure):
 
 
 # Each Structure and its struct in subsplat.h, checked at load (check_layout).
+class PrecomputedObject(ctypes.Structure):
+    _fields_ = [("object_id", ctypes.c_uint32), ("vertices", ctypes.c_uint32), ("bytes", ctypes.c_uint64),
+                ("texels", ctypes.c_uint64), ("kernel_taps", ctypes.c_uint64), ("factors", ctypes.c_uint64),
+                ("atlas_width", ctypes.c_int32), ("atlas_height", ctypes.c_int32), ("texel_size", ctypes.c_float),
+                ("local_range", ctypes.c_float), ("precompute_ms", ctypes.c_double)]
+
+
 LAYOUTS = {MeshDesc: "SsMeshDesc", ResourceCounts: "SsResourceCounts", MaterialDesc: "SsMaterialDesc",
            TextureDesc: "SsTextureDesc", ImageDesc: "SsImageDesc", EnvironmentDesc: "SsEnvironmentDesc", ProfileSetDesc: "SsProfileSetDesc", ProfileSetInfo: "SsProfileSetInfo", LightDesc: "SsLightDesc",
-           CameraDesc: "SsCameraDesc", Settings: "SsSettings", Stats: "SsStats", ProfileInfo: "SsProfileInfo"}
+           CameraDesc: "SsCameraDesc", Settings: "SsSettings", Stats: "SsStats", ProfileInfo: "SsProfileInfo",
+           PrecomputedObject: "SsPrecomputedObject"}
 
 _libs = None
 
@@ -262,6 +270,8 @@ def _declare(lib):
         "ssSetSettings": [handle, ctypes.POINTER(Settings)],
         "ssRender": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssGetStats": [handle, ctypes.POINTER(Stats)],
+        "ssGetPrecomputedObjects": [handle, ctypes.POINTER(PrecomputedObject), ctypes.c_uint32,
+                                    ctypes.POINTER(ctypes.c_uint32)],
         "ssSetSplatBudget": [handle, ctypes.c_uint64],
         "ssGetPass": [handle, ctypes.c_int32, ctypes.c_int32, ctypes.c_int32, ctypes.POINTER(ctypes.c_float)],
         "ssSetProgressCallback": [handle, ProgressCallback, ctypes.c_void_p],
@@ -669,6 +679,14 @@ class Context:
         pixels = np.empty((height, width, 4), dtype=np.float32)
         _check(library().ssGetPass(self._handle, kind, width, height, _floats(pixels)))
         return pixels
+
+    def precomputed_objects(self):
+        """PRECOMPUTED's precomputation, per translucent object: a dict per object, by ascending id."""
+        count = ctypes.c_uint32(0)
+        _check(library().ssGetPrecomputedObjects(self._handle, None, 0, ctypes.byref(count)))
+        objects = (PrecomputedObject * max(count.value, 1))()
+        _check(library().ssGetPrecomputedObjects(self._handle, objects, count.value, ctypes.byref(count)))
+        return [{name: getattr(o, name) for name, _type in PrecomputedObject._fields_} for o in objects[:count.value]]
 
     def stats(self):
         s = Stats()

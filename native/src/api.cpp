@@ -301,6 +301,18 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsStats, precomputed_texels),
     SS_FIELD(SsStats, precomputed_factors),
     SS_FIELD(SsStats, relight_ms),
+    SS_STRUCT(SsPrecomputedObject),
+    SS_FIELD(SsPrecomputedObject, object_id),
+    SS_FIELD(SsPrecomputedObject, vertices),
+    SS_FIELD(SsPrecomputedObject, bytes),
+    SS_FIELD(SsPrecomputedObject, texels),
+    SS_FIELD(SsPrecomputedObject, kernel_taps),
+    SS_FIELD(SsPrecomputedObject, factors),
+    SS_FIELD(SsPrecomputedObject, atlas_width),
+    SS_FIELD(SsPrecomputedObject, atlas_height),
+    SS_FIELD(SsPrecomputedObject, texel_size),
+    SS_FIELD(SsPrecomputedObject, local_range),
+    SS_FIELD(SsPrecomputedObject, precompute_ms),
     SS_STRUCT(SsResourceCounts),
     SS_FIELD(SsResourceCounts, contexts),
     SS_FIELD(SsResourceCounts, profile_sets),
@@ -538,6 +550,16 @@ SsStatus ssGetStats(SsContext context, SsStats* out) {
   return guarded("ssGetStats", [&] {
     if (out == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL");
     *out = renderer(context).stats();
+  });
+}
+
+SsStatus ssGetPrecomputedObjects(SsContext context, SsPrecomputedObject* out, uint32_t capacity, uint32_t* count) {
+  return guarded("ssGetPrecomputedObjects", [&] {
+    if (count == nullptr) subsplat::fail(SS_INVALID_ARGUMENT, "count is NULL");
+    if (out == nullptr && capacity > 0) subsplat::fail(SS_INVALID_ARGUMENT, "out is NULL with a capacity of " + std::to_string(capacity));
+    std::vector<SsPrecomputedObject> objects = renderer(context).precomputedObjects();
+    *count = uint32_t(objects.size());
+    for (size_t i = 0; i < objects.size() && i < capacity; ++i) out[i] = objects[i];
   });
 }
 

@@ -306,6 +306,13 @@ void Renderer::render(int width, int height, float* rgba) {
   for (const LightView& view : views)
     if (softEntriesPossible && view.softSize > 0.0f && (view.light->type != SS_LIGHT_SUN || !ownShadowMap))
       softMapNeeded = true;
+  // PRECOMPUTED reads nothing of a light view but its shadows (its exitance is relit from the
+  // precomputation): without TABULATED materials, whose light through thin parts reads where it
+  // entered, a view is its shadow maps alone (docs/PRECOMPUTED.md, "A frame").
+  const bool shadowsOnly = relit && !scene_.tabulated();
+  if (shadowsOnly)
+    for (const LightView& view : views)
+      if (!ownShadowMap || (view.light->type != SS_LIGHT_SUN && view.softSize > 0.0f)) softMapNeeded = true;
   if (softMapNeeded) {
     gl::Purpose purpose("the soft shadows' maps (" + std::to_string(res) + " x " + std::to_string(res) +
                         " texels; lower the irradiance resolution)");
@@ -321,6 +328,17 @@ void Renderer::render(int width, int height, float* rgba) {
     // A point, spot or area light's soft shadows never read the fine map.
     bool fine = ownShadowMap && (sun || view.softSize <= 0.0f);
     if (fine) shadowMap_.render(scene_, gpuScene_, view);
+    if (shadowsOnly) {  // every surface at the irradiance's resolution where the fine map is not read
+      ShadowInputs inputs;  // (no irradiance buffer's light depth: only the light through thin parts reads it)
+      if (fine) {
+        inputs.shadowDepth = shadowMap_.lightDepth(), inputs.shadowResolution = shadowResolution;
+      } else {
+        softMap_.render(scene_, gpuScene_, view);
+        inputs.shadowDepth = inputs.lightDepth = inputs.softDepth = softMap_.lightDepth(), inputs.shadowResolution = res;
+      }
+      inputs.resolution = res;
+      return inputs;
+    }
     if (soft && sun && ownShadowMap) {
       entries = {shadowMap_.lightDepth(), shadowResolution};
     } else if (soft) {
@@ -360,7 +378,7 @@ void Renderer::render(int width, int height, float* rgba) {
       profiler.begin(SS_STAGE_BUFFERS);
       inputs = renderView(i);
       if (samples > 1 || (editing && !reuse)) copies.keep(i, inputs, scene_.tabulated());
-      if (scene_.tabulated())
+      if (scene_.tabulated() && !relit)  // (the flux's incidence factor: PRECOMPUTED splats no flux)
         irradiance_.applyIncidence(scene_, gpuScene_, view, kernels.transport, softEntries[i] != 0);
       if (adaptive && !reuse) irradiance_.buildHierarchy();
       profiler.end();
@@ -523,6 +541,26 @@ void Renderer::renderPrecomputed(int width, int height) {
     stats_.precomputed_factors += o.factors();
   }
   precomputedDisplay_.draw(precomputedTransport_, scene_, scene_.camera());
+}
+
+std::vector<SsPrecomputedObject> Renderer::precomputedObjects() const {
+  std::vector<SsPrecomputedObject> result;
+  for (const PrecomputedTransport::Object& o : precomputedTransport_.objects()) {
+    SsPrecomputedObject p{};
+    p.object_id = o.objectId;
+    p.vertices = uint32_t(o.vertices);
+    p.bytes = o.bytes();
+    p.texels = o.active.size();
+    p.kernel_taps = o.kernelSource.size();
+    p.factors = o.factors();
+    p.atlas_width = o.atlas.width, p.atlas_height = o.atlas.height;
+    p.texel_size = o.atlas.texel;
+    p.local_range = o.size.localRange;
+    p.precompute_ms = o.precomputeMs;
+    result.push_back(p);
+  }
+  std::sort(result.begin(), result.end(), [](const auto& a, const auto& b) { return a.object_id < b.object_id; });
+  return result;
 }
 
 void Renderer::recordPrecomputation(int width, int height, int resolution, int levels, int splatLevels,

@@ -50,6 +50,8 @@ class Renderer {
   int lastHeight() const { return lastHeight_; }
   void render(int width, int height, float* rgba);
   const SsStats& stats() const { return stats_; }
+  // PRECOMPUTED's objects, in ascending id (ssGetPrecomputedObjects).
+  std::vector<SsPrecomputedObject> precomputedObjects() const;
   void setProgress(ProgressFunction progress) { progress_ = std::move(progress); }
   // A pass of the last successful render (SsPass), width x height RGBA.
   void readPass(int pass, int width, int height, float* rgba);

@@ -107,6 +107,12 @@ def render_image(engine, depsgraph, preview):
                      context_kept=kept,
                      filter_width=render_settings.filter_width,
                      lights=len(frame.lights), quality=settings.quality, reference_samples=settings.reference_samples)
+        if settings.method == "PRECOMPUTED":  # its memory and cost per object (docs/PRECOMPUTED.md, "Memory")
+            stats["precomputed_objects"] = [dict(o, name=frame.meshes[o["object_id"]].name)
+                                            for o in context.precomputed_objects()]
+            if not stats["transport_reused"] and not preview:
+                for o in stats["precomputed_objects"]:
+                    engine.report({"INFO"}, precomputed_object_line(o))  # (`blender -b` prints "Info: ...")
         diagnostics.set_render_stats(stats)
         if not stats["target_reachable"] and not preview:
             engine.report({"WARNING"}, f"SubSplat: {unreachable_target_warning(settings, stats)}")
@@ -222,6 +228,14 @@ def unreachable_target_warning(settings, stats):
             f"buffer than the largest ({stats['irradiance_resolution']}²; {stats['texels_per_range']:.2f} texels "
             f"across the shortest scattering range), so the error may exceed it. The scattering range is short "
             f"for the lights' views: raise the target, or use Manual quality (docs/AUTO.md)")
+
+
+def precomputed_object_line(o):
+    """One object of PRECOMPUTED's precomputation, for the render's report."""
+    return (f"SubSplat Precomputed: object '{o['name']}' precomputed in {o['precompute_ms'] / 1e3:.1f} s: "
+            f"{o['bytes'] / 2**20:.0f} MiB ({o['texels']} texels of {o['texel_size']:.3g} units, "
+            f"{o['kernel_taps'] / 1e6:.1f} M kernel taps, {o['factors'] / 1e6:.1f} M factors over "
+            f"{o['vertices']} vertices)")
 
 
 def scene_file_path(setting, frame):

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 21
+#define SS_API_VERSION 22
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -317,6 +317,21 @@ typedef struct SsStats {
   double relight_ms;
 } SsStats;
 
+/* SS_METHOD_PRECOMPUTED (API 22): one translucent object of the precomputation the context holds
+ * (ssGetPrecomputedObjects). Its bytes are what SsStats.precomputed_bytes sums. */
+typedef struct SsPrecomputedObject {
+  uint32_t object_id;
+  uint32_t vertices;       /* welded vertices: the global response's basis */
+  uint64_t bytes;          /* kernels, factors, atlas, outputs: held in memory while it serves */
+  uint64_t texels;         /* atlas texels with a surface point (receivers) */
+  uint64_t kernel_taps;    /* the local response's taps, over every texel */
+  uint64_t factors;        /* vertex-to-vertex factors kept */
+  int32_t atlas_width, atlas_height;
+  float texel_size;        /* scene units */
+  float local_range;       /* the local kernels' reach, scene units */
+  double precompute_ms;    /* its share of the precomputation's wall time */
+} SsPrecomputedObject;
+
 /* Images of the last render besides the result, same size, bottom row first. */
 typedef enum SsPass {
   SS_PASS_EXITANCE = 0,  /* rgb: B(x_o) of eq. 5 (W / unit^2); a: 1 on translucent pixels */
@@ -413,6 +428,11 @@ SS_API SsStatus ssSetEnvironment(SsContext context, const SsEnvironmentDesc* env
 /* Renders width x height and writes linear RGBA floats, bottom row first. */
 SS_API SsStatus ssRender(SsContext context, int32_t width, int32_t height, float* rgba_out);
 SS_API SsStatus ssGetStats(SsContext context, SsStats* out);
+/* The objects of the precomputation PRECOMPUTED holds (none before its first render, or after a
+ * failed one): *count gets how many there are, and the first min(*count, capacity) are written
+ * to out (which may be NULL when capacity is 0), in ascending object_id. */
+SS_API SsStatus ssGetPrecomputedObjects(SsContext context, SsPrecomputedObject* out, uint32_t capacity,
+                                        uint32_t* count);
 /* At most `fragments` splatting fragment invocations per ssRender of a GPU method (0, the
  * default: no budget). A render that reaches it shows the splats drawn so far; the next render
  * goes on where it stopped while nothing was changed since (any ssSet*, ssRemoveMesh,

@@ -10,19 +10,23 @@ namespace subsplat {
 
 bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurface) {
   int r = source.resolution;
+  // PRECOMPUTED's views of shadows alone may have no light depth of the irradiance's resolution.
+  bool depth = source.lightDepth != 0;
   bool ownShadow = source.shadowDepth != source.lightDepth;
   int s = ownShadow ? source.shadowResolution : 0;
   // The soft shadows' map, when it is neither of the others (ShadowInputs::softDepth).
   bool ownSoft = source.softDepth != 0 && source.softDepth != source.lightDepth && source.softDepth != source.shadowDepth;
-  size_t bytes = size_t(r) * size_t(r) * ((withSurface ? 40 : 8) + (ownSoft ? 8 : 0)) + size_t(s) * size_t(s) * 8;
+  size_t bytes = size_t(r) * size_t(r) * ((withSurface ? 32 : 0) + (depth ? 8 : 0) + (ownSoft ? 8 : 0)) +
+                 size_t(s) * size_t(s) * 8;
   if ((index + 1) * bytes > kBudgetBytes) return false;
   if (copies_.size() <= index) copies_.resize(index + 1);
   Copy& copy = copies_[index];
-  if (copy.resolution != r || copy.withSurface != withSurface || copy.shadowResolution != s || copy.ownSoft != ownSoft) {
+  if (copy.resolution != r || copy.withSurface != withSurface || copy.shadowResolution != s || copy.ownSoft != ownSoft ||
+      bool(copy.depth) != depth) {
     copy = Copy{};
     try {
       gl::Purpose purpose("a copy of a shadow map for the anti-aliasing samples");
-      copy.depth = gl::makeTexture2D(GL_RG32F, r, r);
+      if (depth) copy.depth = gl::makeTexture2D(GL_RG32F, r, r);
       if (withSurface) {
         copy.position = gl::makeTexture2D(GL_RGBA32F, r, r);
         copy.normal = gl::makeTexture2D(GL_RGBA32F, r, r);
@@ -42,7 +46,7 @@ bool ShadowCopies::keep(size_t index, const ShadowInputs& source, bool withSurfa
   auto duplicate = [](GLuint from, GLuint to, int size) {
     glCopyImageSubData(from, GL_TEXTURE_2D, 0, 0, 0, 0, to, GL_TEXTURE_2D, 0, 0, 0, 0, size, size, 1);
   };
-  duplicate(source.lightDepth, copy.depth.id(), r);
+  if (depth) duplicate(source.lightDepth, copy.depth.id(), r);
   if (withSurface) {
     duplicate(source.positionMaterial, copy.position.id(), r);
     duplicate(source.normalObject, copy.normal.id(), r);

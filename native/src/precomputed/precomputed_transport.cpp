@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -235,12 +236,29 @@ class PointGrid {
 PrecomputedTransport::PrecomputedTransport() = default;
 PrecomputedTransport::~PrecomputedTransport() = default;
 
+namespace {
+
+// An atlas's own memory: its texels' records and the charts' and triangles' tables.
+size_t atlasBytes(const Atlas& atlas) {
+  return atlas.texels.size() * sizeof(AtlasTexel) + atlas.rects.size() * sizeof(Atlas::Rect) +
+         (atlas.chartU.size() + atlas.chartV.size()) * sizeof(glm::vec3) + atlas.chartOfTriangle.size() * 4 +
+         atlas.cornerTexel.size() * sizeof(glm::vec2);
+}
+
+// What an object holds besides its kernels' taps and its factors, with `active` texels: the atlas,
+// per texel its index, local response and (active ones) kernel start, index and direct weights, per
+// vertex its position and global response, per triangle corner its vertex.
+size_t recordBytes(const Atlas& atlas, size_t active, size_t vertices, size_t corners) {
+  return atlasBytes(atlas) + atlas.texels.size() * (4 + sizeof(glm::vec4)) +
+         active * (4 + 4 + sizeof(std::array<glm::vec3, 3>)) + 4 + vertices * (sizeof(glm::vec3) + sizeof(glm::vec4)) +
+         corners * 4;
+}
+
+}  // namespace
+
 size_t PrecomputedTransport::Object::bytes() const {
-  return kernelSource.size() * 4 + kernelWeight.size() * sizeof(glm::vec3) + kernelStart.size() * 4 + factor.size() * sizeof(glm::vec3) + column.size() * 4 +
-         rowStart.size() * 4 + direct.size() * sizeof(direct[0]) + atlas.texels.size() * sizeof(AtlasTexel) +
-         active.size() * 4 + activeOf.size() * 4 + local.size() * sizeof(glm::vec4) +
-         vertexExitance.size() * sizeof(glm::vec4) + vertexPositions.size() * sizeof(glm::vec3) +
-         vertexOfCorner.size() * 4;
+  return kernelSource.size() * 4 + kernelWeight.size() * sizeof(glm::vec3) + factor.size() * sizeof(glm::vec3) +
+         column.size() * 4 + rowStart.size() * 4 + recordBytes(atlas, active.size(), vertexPositions.size(), vertexOfCorner.size());
 }
 
 size_t PrecomputedTransport::bytes() const {
@@ -268,7 +286,7 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   for (int step = 0; step < 200; ++step) {
     double texels = 1.8 * area / (texel * texel) + 64.0;
     double taps = M_PI * (radius + 0.5) * (radius + 0.5);  // the core texels within the local range
-    double bytes = texels * (taps * 16.0 + 96.0);
+    double bytes = texels * (taps * PrecomputedTransport::kTapBytes + PrecomputedTransport::kTexelBytes);
     if (bytes <= 0.75 * double(maxBytes)) break;
     texel *= 1.15;
     radius = radiusFor(texel);
@@ -282,8 +300,7 @@ uint64_t PrecomputedTransport::hashMeshes(const Scene& scene) {
   uint64_t h = 1469598103934665603ull;
   for (const auto& [id, mesh] : scene.meshes()) {
     if (!mesh.translucent) continue;
-    h = fnv(h, &id, sizeof id);
-    h = fnv(h, &mesh.objectToWorld, sizeof mesh.objectToWorld);
+    h = fnv(h, &id, sizeof id);  // (in object space: a rigid move is rigidMove's)
     h = fnv(h, mesh.cpuPositions.data(), mesh.cpuPositions.size() * sizeof(glm::vec3));
     h = fnv(h, mesh.cpuNormals.data(), mesh.cpuNormals.size() * sizeof(glm::vec3));
     h = fnv(h, mesh.cpuUvs.data(), mesh.cpuUvs.size() * sizeof(glm::vec2));
@@ -319,8 +336,31 @@ std::vector<const void*> PrecomputedTransport::identity(const Scene& scene) {
   return out;
 }
 
+std::vector<glm::mat4> PrecomputedTransport::transforms(const Scene& scene) {
+  std::vector<glm::mat4> out;
+  for (const auto& [id, mesh] : scene.meshes())
+    if (mesh.translucent) out.push_back(mesh.objectToWorld);
+  return out;
+}
+
+bool PrecomputedTransport::rigidMove(const glm::mat4& from, const glm::mat4& to) {
+  // to = R from with R a rotation (and any translation): distances, angles and areas on the surface
+  // are those the kernels and factors were computed for.
+  glm::mat3 a = glm::mat3(to) * glm::inverse(glm::mat3(from));
+  glm::mat3 gram = glm::transpose(a) * a;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (!(std::abs(gram[i][j] - (i == j ? 1.0f : 0.0f)) < 1e-5f)) return false;
+  return glm::determinant(a) > 0.0f;
+}
+
 bool PrecomputedTransport::serves(const Scene& scene) const {
-  return valid_ && meshHash_ == hashMeshes(scene) && materialSignature_ == signature(scene);
+  if (!valid_ || meshHash_ != hashMeshes(scene) || materialSignature_ != signature(scene)) return false;
+  std::vector<glm::mat4> now = transforms(scene);
+  if (now.size() != transforms_.size()) return false;
+  for (size_t i = 0; i < now.size(); ++i)
+    if (now[i] != transforms_[i] && !rigidMove(transforms_[i], now[i])) return false;
+  return true;
 }
 
 void PrecomputedTransport::clear() {
@@ -338,6 +378,18 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
   const std::vector<EntryProfile> profiles = entryProfiles(scene);
   size_t used = 0;
   const auto& meshes = rays_->meshes();
+  // The memory is shared between the objects by translucent area; what one leaves goes to the next.
+  auto translucentArea = [&](const WorldMesh& wm) {
+    double a = 0.0;
+    for (size_t t = 0; t < wm.mesh->triangleCount; ++t) {
+      if (!profiles[(*wm.materials)[t]].translucent) continue;
+      glm::uvec3 v = wm.triangle(uint32_t(t));
+      a += 0.5 * double(glm::length(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x])));
+    }
+    return a;
+  };
+  double areaLeft = 0.0;
+  for (const WorldMesh& wm : meshes) areaLeft += translucentArea(wm);
   for (size_t mi = 0; mi < meshes.size(); ++mi) {
     const WorldMesh& wm = meshes[mi];
     const Mesh& mesh = *wm.mesh;
@@ -366,6 +418,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     for (const auto& [id, m] : scene.meshes())
       if (&m == &mesh) object.objectId = id;
     object.rayMesh = int(mi);
+    const auto objectStart = std::chrono::steady_clock::now();
 
     // Vertices: welded, over the atlas's triangles.
     std::vector<uint32_t> weld = weldVertices(wm.positions);
@@ -446,58 +499,11 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       edge = std::max(sum / double(edges.size()), 0.5 * double(edges[edges.size() * 95 / 100]));
     }
 
-    // The atlas.
-    size_t left = maxBytes > used ? maxBytes - used : 0;
+    // The texel and the local range, for this object's share of the memory left.
+    const double share = areaLeft > 0.0 ? std::min(area / areaLeft, 1.0) : 1.0;
+    areaLeft -= area;
+    const size_t left = size_t(double(maxBytes > used ? maxBytes - used : 0) * share);
     object.size = choosePrecomputation(area, edge, support, detail, left);
-    // The atlas's borders and packing may take more texels than choosePrecomputation allowed for
-    // (many small charts): a coarser texel then, until it fits (the kernels reach as far).
-    double taps = 0.0;
-    for (int attempt = 0;; ++attempt) {
-      const int radius = object.size.radius;
-      taps = M_PI * (radius + 0.5) * (radius + 0.5);
-      size_t maxTexels = std::max<size_t>(size_t(double(left) / (taps * 16.0 + 96.0)), 4096);
-      try {
-        object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
-        break;
-      } catch (const Error& e) {
-        if (e.status() != SS_LIMIT_EXCEEDED || attempt >= 16) throw;
-      }
-      object.size.texel *= 1.25f;
-      object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
-                                      kMaxRadius);
-    }
-    const Atlas& atlas = object.atlas;
-    object.activeOf.assign(atlas.texels.size(), -1);
-    for (size_t i = 0; i < atlas.texels.size(); ++i)
-      if (atlas.texels[i].kind != AtlasTexel::kEmpty) {
-        object.activeOf[i] = int32_t(object.active.size());
-        object.active.push_back(uint32_t(i));
-      }
-    const size_t active = object.active.size();
-    // Each active texel as a receiver (points: its centre) and as a source (sources: its core
-    // part's centroid and area; area 0 where it has none).
-    auto pointOn = [&](uint32_t triangle, const glm::vec3& w, float area) {
-      TexelPoint p;
-      glm::uvec3 v = wm.triangle(triangle);
-      p.triangle = triangle;
-      p.position = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
-      glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
-      p.geometricNormal = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
-      p.normal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : p.geometricNormal;
-      p.base = (*wm.materials)[triangle];
-      if (mesh.hasUvs()) p.uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
-      p.entry = uint32_t(entries[p.base].entryAt(mesh.hasUvs() ? &p.uv : nullptr));
-      p.area = area;
-      for (int k = 0; k < 3; ++k) p.vertices[k] = object.vertexOfCorner[3 * size_t(triangle) + size_t(k)];
-      p.beta = w;
-      return p;
-    };
-    std::vector<TexelPoint> points(active), sources(active);
-    for (size_t a = 0; a < active; ++a) {
-      const AtlasTexel& tx = atlas.texels[object.active[a]];
-      points[a] = pointOn(tx.triangle, tx.barycentric, 0.0f);
-      if (tx.area > 0.0f) sources[a] = pointOn(tx.sourceTriangle, tx.sourceBarycentric, tx.area);
-    }
     auto sideOf = [&](const EntryProfile& in, const glm::vec3& ni, const glm::vec3& no) {
       return in.tabulated ? float(sideWeight(double(glm::dot(ni, no)))) : 1.0f;
     };
@@ -539,19 +545,20 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       }, progress, 0.0, 0.2);
       object.rowStart.assign(size_t(V) + 1, 0);
       for (int j = 0; j < V; ++j) object.rowStart[size_t(j) + 1] = object.rowStart[size_t(j)] + uint32_t(rows[size_t(j)].size());
-      size_t factorBytes = size_t(object.rowStart.back()) * 16;
-      size_t kernelBytes = size_t(double(active) * taps * 16.0);
-      if (used + factorBytes + kernelBytes > maxBytes)
+      size_t pairBytes = size_t(double(object.rowStart.back()) * kFactorBytes);
+      if (pairBytes > left)
         fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: object " + std::to_string(object.objectId) + " needs " +
-                                    std::to_string((factorBytes + kernelBytes) >> 20) + " MiB of factors and kernels (" +
-                                    std::to_string(object.rowStart.back()) + " vertex pairs, " + std::to_string(active) +
-                                    " texels), more than the " + std::to_string((maxBytes - std::min(used, maxBytes)) >> 20) +
-                                    " MiB left of the memory budget (fewer vertices, or another method)");
+                                    std::to_string(pairBytes >> 20) + " MiB of vertex-to-vertex factors (" +
+                                    std::to_string(object.rowStart.back()) + " vertex pairs), more than its " +
+                                    std::to_string(left >> 20) +
+                                    " MiB share of the memory budget (fewer vertices, or another method)");
       object.column.reserve(object.rowStart.back());
       object.factor.reserve(object.rowStart.back());
       for (auto& row : rows)
         for (auto& [i, f] : row) object.column.push_back(i), object.factor.push_back(f);
     }
+    const size_t factorBytes =
+        object.column.size() * 4 + object.factor.size() * sizeof(glm::vec3) + object.rowStart.size() * 4;
     const size_t V = size_t(object.vertices);
     // F(i -> j), 0 where not kept.
     auto factorOf = [&](uint32_t i, uint32_t j) -> glm::vec3 {
@@ -575,14 +582,98 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         }
       }
     };
-    // The core texels (the sources: each surface point once) on a grid; the local range.
+    // The atlas, its texels' points and their kernels' taps, within the memory the factors left:
+    // the taps (the core texels within the local range of each texel) are counted before any
+    // kernel is computed, and a coarser texel is taken until everything fits.
+    const size_t atlasLeft = left > factorBytes ? left - factorBytes : 0;
+    const Atlas& atlas = object.atlas;
+    size_t active = 0;
+    std::vector<TexelPoint> points, sources;
     std::vector<glm::vec3> corePositions;
     std::vector<uint32_t> coreActive;
-    for (size_t a = 0; a < active; ++a)
-      if (sources[a].area > 0.0f) corePositions.push_back(sources[a].position), coreActive.push_back(uint32_t(a));
-    const double reach = object.size.localRange, texel = atlas.texel;
-    const double ringWidth = 1.5 * texel;
-    PointGrid cores(corePositions, reach + ringWidth);
+    const double reach = object.size.localRange;
+    double texel = 0.0, ringWidth = 0.0;
+    std::unique_ptr<PointGrid> cores;
+    for (int fit = 0;; ++fit) {
+      // The atlas's borders and packing may take more texels than choosePrecomputation allowed for
+      // (many small charts): a coarser texel then, until it fits (the kernels reach as far).
+      double taps = 0.0;
+      for (int attempt = 0;; ++attempt) {
+        const int radius = object.size.radius;
+        taps = M_PI * (radius + 0.5) * (radius + 0.5);
+        size_t maxTexels = std::max<size_t>(size_t(double(atlasLeft) / (taps * kTapBytes + kTexelBytes)), 4096);
+        try {
+          object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
+          break;
+        } catch (const Error& e) {
+          if (e.status() != SS_LIMIT_EXCEEDED || attempt >= 16) throw;
+        }
+        object.size.texel *= 1.25f;
+        object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
+                                        kMaxRadius);
+      }
+      object.activeOf.assign(atlas.texels.size(), -1);
+      object.active.clear();
+      for (size_t i = 0; i < atlas.texels.size(); ++i)
+        if (atlas.texels[i].kind != AtlasTexel::kEmpty) {
+          object.activeOf[i] = int32_t(object.active.size());
+          object.active.push_back(uint32_t(i));
+        }
+      active = object.active.size();
+      // Each active texel as a receiver (points: its centre) and as a source (sources: its core
+      // part's centroid and area; area 0 where it has none).
+      auto pointOn = [&](uint32_t triangle, const glm::vec3& w, float area) {
+        TexelPoint p;
+        glm::uvec3 v = wm.triangle(triangle);
+        p.triangle = triangle;
+        p.position = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+        glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
+        p.geometricNormal = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+        p.normal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : p.geometricNormal;
+        p.base = (*wm.materials)[triangle];
+        if (mesh.hasUvs()) p.uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
+        p.entry = uint32_t(entries[p.base].entryAt(mesh.hasUvs() ? &p.uv : nullptr));
+        p.area = area;
+        for (int k = 0; k < 3; ++k) p.vertices[k] = object.vertexOfCorner[3 * size_t(triangle) + size_t(k)];
+        p.beta = w;
+        return p;
+      };
+      points.assign(active, TexelPoint{}), sources.assign(active, TexelPoint{});
+      for (size_t a = 0; a < active; ++a) {
+        const AtlasTexel& tx = atlas.texels[object.active[a]];
+        points[a] = pointOn(tx.triangle, tx.barycentric, 0.0f);
+        if (tx.area > 0.0f) sources[a] = pointOn(tx.sourceTriangle, tx.sourceBarycentric, tx.area);
+      }
+      // The core texels (the sources: each surface point once) on a grid; the local range.
+      corePositions.clear(), coreActive.clear();
+      for (size_t a = 0; a < active; ++a)
+        if (sources[a].area > 0.0f) corePositions.push_back(sources[a].position), coreActive.push_back(uint32_t(a));
+      texel = atlas.texel, ringWidth = 1.5 * texel;
+      cores = std::make_unique<PointGrid>(corePositions, reach + ringWidth);
+      // What this object will hold (Object::bytes) once its kernels are computed.
+      std::vector<uint32_t> counts(active, 0);
+      parallelFor(active, 1024, [&](size_t begin, size_t end) {
+        for (size_t a = begin; a < end; ++a) cores->within(points[a].position, reach, [&](uint32_t, double) { ++counts[a]; });
+      }, ProgressFunction{}, 0.0, 0.0);
+      uint64_t tapCount = 0;
+      for (uint32_t c : counts) tapCount += c;
+      const size_t bytes = size_t(double(tapCount) * kTapBytes) +
+                           recordBytes(atlas, active, object.vertexPositions.size(), object.vertexOfCorner.size());
+      if (bytes <= atlasLeft) break;
+      if (fit >= 16)
+        fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: object " + std::to_string(object.objectId) + " needs " +
+                                    std::to_string((bytes + factorBytes) >> 20) + " MiB of kernels, factors and atlas (" +
+                                    std::to_string(tapCount) + " kernel taps over " + std::to_string(active) +
+                                    " texels, " + std::to_string(object.rowStart.back()) + " vertex pairs), more than its " +
+                                    std::to_string(left >> 20) +
+                                    " MiB share of the memory budget (fewer vertices, or another method)");
+      // Texels and taps each go as the texel's inverse square: the fourth root of the excess, a
+      // little more.
+      double step = std::clamp(1.01 * std::pow(double(bytes) / double(std::max<size_t>(atlasLeft, 1)), 0.25), 1.02, 1.5);
+      object.size.texel = float(double(object.size.texel) * step);
+      object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
+                                      kMaxRadius);
+    }
     // R_d from source texel s to receiver t: over the source's square when they are within
     // kNearTexels, else its mean over the source's disk or ring (cellMean).
     auto local = [&](const TexelPoint& s, int chart, const TexelPoint& t, double r) {
@@ -607,7 +698,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         int chart = atlas.texels[object.active[a]].chart;
         glm::dmat3 m(0.0);
         glm::dvec3 rhs[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-        cores.within(s.position, reach + ringWidth, [&](uint32_t qi, double r) {
+        cores->within(s.position, reach + ringWidth, [&](uint32_t qi, double r) {
           if (r < reach) return;
           const TexelPoint& q = sources[coreActive[qi]];  // (a receiver there)
           glm::vec3 g0, basis;
@@ -650,7 +741,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
           scattered = t.triangle, scatteredVertices = t.vertices;
         }
         auto& list = kernelLists[a];
-        cores.within(t.position, reach, [&](uint32_t si, double r) {
+        cores->within(t.position, reach, [&](uint32_t si, double r) {
           size_t sa = coreActive[si];
           const TexelPoint& s = sources[sa];
           glm::vec3 k = local(s, atlas.texels[object.active[sa]].chart, t, r);
@@ -681,10 +772,13 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     }
     object.local.assign(atlas.texels.size(), glm::vec4(0.0f));
     object.vertexExitance.assign(size_t(object.vertices), glm::vec4(0.0f));
+    require(object.bytes() <= left, "PRECOMPUTED: an object holds more than its memory was checked for");
     used += object.bytes();
+    object.precomputeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - objectStart).count();
   }
   meshHash_ = hashMeshes(scene);
   materialSignature_ = signature(scene);
+  transforms_ = transforms(scene);
   valid_ = true;
 }
 
@@ -701,6 +795,8 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
   }
   const std::vector<MaterialEntry>& entries = scene.denseMaterials();
   EnteringLight light(scene, *rays_);
+  // The exitance-weighted incidence cosine (alpha) is read by TABULATED materials only.
+  const bool withMu0 = scene.tabulated();
   for (Object& object : objects_) {
     const WorldMesh& wm = rays_->meshes()[size_t(object.rayMesh)];
     const Mesh& mesh = *wm.mesh;
@@ -745,9 +841,14 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
     parallelFor(V, 256, [&](size_t begin, size_t end) {
       for (size_t j = begin; j < end; ++j) {
         glm::vec3 b = direct[j], bMu0 = directMu0[j];
-        for (uint32_t k = object.rowStart[j]; k < object.rowStart[j + 1]; ++k) {
-          b += object.factor[k] * share[object.column[k]];
-          bMu0 += object.factor[k] * shareMu0[object.column[k]];
+        if (withMu0) {
+          for (uint32_t k = object.rowStart[j]; k < object.rowStart[j + 1]; ++k) {
+            b += object.factor[k] * share[object.column[k]];
+            bMu0 += object.factor[k] * shareMu0[object.column[k]];
+          }
+        } else {
+          for (uint32_t k = object.rowStart[j]; k < object.rowStart[j + 1]; ++k)
+            b += object.factor[k] * share[object.column[k]];
         }
         object.vertexExitance[j] = glm::vec4(b, bMu0.x + bMu0.y + bMu0.z);
       }
@@ -757,12 +858,17 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
       for (size_t a = begin; a < end; ++a) {
         glm::vec3 b(0.0f);
         float alpha = 0.0f;
-        for (uint32_t k = object.kernelStart[a]; k < object.kernelStart[a + 1]; ++k) {
-          const glm::vec3& w = object.kernelWeight[k];
-          uint32_t s = object.kernelSource[k];
-          b += w * flux[s];
-          glm::vec3 m = w * fluxMu0[s];
-          alpha += m.x + m.y + m.z;
+        if (withMu0) {
+          for (uint32_t k = object.kernelStart[a]; k < object.kernelStart[a + 1]; ++k) {
+            const glm::vec3& w = object.kernelWeight[k];
+            uint32_t s = object.kernelSource[k];
+            b += w * flux[s];
+            glm::vec3 m = w * fluxMu0[s];
+            alpha += m.x + m.y + m.z;
+          }
+        } else {
+          for (uint32_t k = object.kernelStart[a]; k < object.kernelStart[a + 1]; ++k)
+            b += object.kernelWeight[k] * flux[object.kernelSource[k]];
         }
         object.local[object.active[a]] = glm::vec4(b, alpha);
       }

@@ -49,6 +49,9 @@ struct PrecomputationSize {
 class PrecomputedTransport {
  public:
   static constexpr int kMinRadius = 3, kMaxRadius = 10;
+  // Memory: a kernel's tap (source index, rgb weight), a factor (its column and rgb), and an atlas
+  // texel's own (its record, kernel start, outputs, direct weights, indices).
+  static constexpr double kTapBytes = 16.0, kFactorBytes = 16.0, kTexelBytes = 96.0;
   static constexpr double kDetailTexel = 0.7;  // the texel, of the finest half-energy radius
   static constexpr double kFactorThreshold = 1e-6;
   static constexpr double kLocalEdges = 4.0;  // the local response reaches this many mean edges
@@ -59,9 +62,11 @@ class PrecomputedTransport {
   ~PrecomputedTransport();
   PrecomputedTransport(const PrecomputedTransport&) = delete;
   PrecomputedTransport& operator=(const PrecomputedTransport&) = delete;
-  // Whether the precomputation is for this scene's meshes and materials (lights, camera, settings
-  // and textures may differ).
+  // Whether the precomputation is for this scene's meshes and materials (lights, camera, settings,
+  // textures and opaque meshes may differ, and a translucent object may have moved rigidly).
   bool serves(const Scene& scene) const;
+  // Whether `to` is `from` turned and moved, not scaled, sheared or mirrored (within 1e-5).
+  static bool rigidMove(const glm::mat4& from, const glm::mat4& to);
   // Precomputes for every translucent object of `scene` (materials resolved) within `maxBytes`.
   void precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress);
   // One frame under the scene's lights.
@@ -85,6 +90,7 @@ class PrecomputedTransport {
     std::vector<glm::vec3> factor;
     std::vector<std::array<glm::vec3, 3>> direct;  // per active texel: w of its triangle's vertices
     size_t factors() const { return column.size(); }
+    double precomputeMs = 0.0;  // wall time of this object's precomputation
     size_t bytes() const;
     // The last frame's: B_l per texel (rgb, alpha), B per vertex.
     std::vector<glm::vec4> local, vertexExitance;
@@ -97,9 +103,11 @@ class PrecomputedTransport {
   bool valid_ = false;
   uint64_t meshHash_ = 0;
   std::vector<double> materialSignature_;
+  std::vector<glm::mat4> transforms_;  // the translucent meshes' at the precomputation
   std::unique_ptr<RayScene> rays_;
   std::vector<const void*> rayIdentity_;  // the meshes the RayScene points into
   static uint64_t hashMeshes(const Scene& scene);
+  static std::vector<glm::mat4> transforms(const Scene& scene);
   static std::vector<double> signature(const Scene& scene);
   static std::vector<const void*> identity(const Scene& scene);
 };
