@@ -345,7 +345,10 @@ void Renderer::render(int width, int height, float* rgba) {
       softMap_.render(scene_, gpuScene_, view);
       entries = {softMap_.lightDepth(), res};
     }
-    irradiance_.render(scene_, gpuScene_, view, entries);
+    if (relit)  // (TABULATED: the light through thin parts reads where it entered)
+      irradiance_.renderEntries(scene_, gpuScene_, view, entries);
+    else
+      irradiance_.render(scene_, gpuScene_, view, entries);
     ShadowInputs inputs = irradiance_.shadowInputs();
     if (fine) inputs.shadowDepth = shadowMap_.lightDepth(), inputs.shadowResolution = shadowResolution;
     if (soft && !fine) inputs.shadowDepth = softMap_.lightDepth(), inputs.shadowResolution = res;

@@ -101,6 +101,24 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
   gl::checkErrors("incidence factor");
 }
 
+void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, const LightView& view,
+                                     const SoftEntries& soft) {
+  if (!entryProgram_) entryProgram_ = gl::makeProgram("mesh.vert", "", "entry_points.frag");
+  const glm::vec4 empty(0, 0, 0, -2), far(1e30f, 0, 0, 0);
+  GLuint p = entryProgram_.id();
+  beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, glm::vec4(0.0f), empty, far}, p);
+  setLightUniforms(p, view);
+  glUniform1i(uniform(p, "resolution"), resolution_);
+  glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);
+  if (soft.on()) {
+    setSoftShadowUniforms(p, view);
+    glUniform1i(uniform(p, "softMapResolution"), soft.resolution);
+    bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, soft.map);
+  }
+  drawMeshes(scene, gpu, p, view.viewProj);
+  glDisable(GL_DEPTH_TEST);
+}
+
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft) {
   const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
   GLuint p = program_.id();

@@ -42,6 +42,9 @@ class IrradianceBuffer {
   // of it (heterogeneous scenes only; docs/HETEROGENEOUS.md).
   void resize(int resolution, int levels = 1, bool profileSplits = false);
   void render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft = {});
+  // Only where the light enters each texel (positionMaterial, normalObject, lightDepth; no flux):
+  // what PRECOMPUTED's direct light reads of a view with TABULATED materials (entry_points.frag).
+  void renderEntries(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft = {});
   // TABULATED materials (material/transport_model.h): renders where the light leaves each part
   // (exitDepth) and scales the finest level's flux by the incidence factor R(tau, mu0) / R(1).
   // Before buildHierarchy; transportTables: MaterialTables::transport().
@@ -76,7 +79,7 @@ class IrradianceBuffer {
  private:
   int resolution_ = 0, levels_ = 0;
   bool profileSplits_ = false;
-  gl::Program program_, reduceProgram_, exitProgram_, incidenceProgram_;
+  gl::Program program_, entryProgram_, reduceProgram_, exitProgram_, incidenceProgram_;
   gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_, profileSplit_;
   gl::Texture exitDepth_, exitZ_;
   gl::Framebuffer framebuffer_, exitFramebuffer_;
