@@ -15,7 +15,8 @@ in this Blender session (PRECOMPUTED keeps its context from one to the next):
 - PRECOMPUTED's first render (the precomputation: its time, bytes, texels and factors);
 - a moving light: every light turned about the vertical through the scene's centre by 6 degrees a
   step, `--runs` steps; at each, PRECOMPUTED (relit: `transport_reused`) and FULL; the median frame
-  times and PRECOMPUTED's error against FULL's image of the same step;
+  times and PRECOMPUTED's error against FULL's image of the same step; the same steps' frame times
+  again at the example's own size (100 %), where FULL's pixels cost more;
 - a deforming object: where the example is animated (finger_pose), two more frames, each of which
   precomputes again (the cost a deforming mesh pays every frame).
 Times are the library's frame times (SsStats.frame_ms, no export). Errors: relative RMSE over the
@@ -76,6 +77,21 @@ def turn_lights(scene, degrees):
             obj.matrix_world = rotation @ obj.matrix_world
 
 
+def relit_steps(scene, name, runs):
+    """PRECOMPUTED at `runs` steps of the lights' turn (each must relight), the lights turned back:
+    the images and frame times."""
+    images, times = [], []
+    for _step in range(runs):
+        turn_lights(scene, STEP_DEGREES)
+        image, _exitance, stats = render(scene, "PRECOMPUTED")
+        if not stats["transport_reused"]:
+            raise RuntimeError(f"{name}: a light move precomputed again ({stats})")
+        images.append(image)
+        times.append(stats["frame_ms"])
+    turn_lights(scene, -STEP_DEGREES * runs)
+    return images, times
+
+
 def measure(name, model, args):
     scene, notes = physical.example_case(name, args.percentage, bounce=False, profile_model=model)
     scene.subsplat.samples = 1
@@ -99,15 +115,18 @@ def measure(name, model, args):
 
     # A moving light: relit at each step (one after another: another method's render in between
     # releases the kept context), then FULL at the same steps.
-    relit, relit_ms = [], []
+    relit, relit_ms = relit_steps(scene, name, args.runs)
+    # The same steps at the example's own size (100 %), relit, then FULL: where the frame's pixels
+    # cost FULL more and the relighting (per atlas texel) no more.
+    scene.render.resolution_percentage = 100
+    own, own_relit_ms = relit_steps(scene, name, args.runs)
+    own_size = [int(own[0].shape[1]), int(own[0].shape[0])]
+    own_full_ms = []
     for step in range(args.runs):
         turn_lights(scene, STEP_DEGREES)
-        moved, _exitance, stats = render(scene, "PRECOMPUTED")
-        if not stats["transport_reused"]:
-            raise RuntimeError(f"{name}: a light move precomputed again ({stats})")
-        relit.append(moved)
-        relit_ms.append(stats["frame_ms"])
+        own_full_ms.append(render(scene, "FULL")[2]["frame_ms"])
     turn_lights(scene, -STEP_DEGREES * args.runs)
+    scene.render.resolution_percentage = args.percentage
     full_moved_ms, moved_errors = [], []
     for step in range(args.runs):
         turn_lights(scene, STEP_DEGREES)
@@ -140,6 +159,8 @@ def measure(name, model, args):
         "factors": first["precomputed_factors"],
         "relit_ms": statistics.median(relit_ms),
         "full_moved_ms": statistics.median(full_moved_ms), "moved_vs_full": max(moved_errors),
+        "own_size": own_size, "own_relit_ms": statistics.median(own_relit_ms),
+        "own_full_ms": statistics.median(own_full_ms),
         "precomputed_vs_reference": relative_rmse(precomputed, reference, mask),
         "full_vs_reference": relative_rmse(full, reference, mask),
         "precomputed_vs_truth": twin_truth.error(precomputed, truth, mask)[0],
@@ -149,7 +170,9 @@ def measure(name, model, args):
     print(f"{name} {model}: FULL {row['full_ms']:.0f} ms; precompute {row['precompute_ms']:.0f} ms "
           f"({row['bytes'] / 2**20:.0f} MiB, {row['texels']} texels, {row['factors']} factors); relit "
           f"{row['relit_ms']:.0f} ms (FULL at the same light {row['full_moved_ms']:.0f} ms, "
-          f"{row['full_moved_ms'] / row['relit_ms']:.1f}x); against REFERENCE: PRECOMPUTED "
+          f"{row['full_moved_ms'] / row['relit_ms']:.1f}x; at {own_size[0]} x {own_size[1]}: "
+          f"{row['own_relit_ms']:.0f} ms, FULL {row['own_full_ms']:.0f} ms, "
+          f"{row['own_full_ms'] / row['own_relit_ms']:.1f}x); against REFERENCE: PRECOMPUTED "
           f"{100 * row['precomputed_vs_reference']:.2f} %, FULL {100 * row['full_vs_reference']:.2f} %; against the "
           f"truth: PRECOMPUTED {100 * row['precomputed_vs_truth']:.1f} %, FULL {100 * row['full_vs_truth']:.1f} %; "
           f"moved light against FULL {100 * row['moved_vs_full']:.2f} %; deforming {deforming}", flush=True)
@@ -158,15 +181,17 @@ def measure(name, model, args):
 
 def table(rows):
     lines = ["| example | model | FULL ms | precompute ms (FULL frames) | memory MiB (texels, factors) | relit ms "
-             "(FULL at the same light) | vs REFERENCE: PRECOMPUTED, FULL | vs truth: PRECOMPUTED, FULL "
-             "| moved light vs FULL | deforming: ms a frame (FULL) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "(FULL at the same light) | at the example's own size: relit ms (FULL) | vs REFERENCE: PRECOMPUTED, "
+             "FULL | vs truth: PRECOMPUTED, FULL | moved light vs FULL | deforming: ms a frame (FULL) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         deforming = ", ".join(f"{d['frame_ms']:.0f} ({d['full_ms']:.0f})" for d in r["deforming"]) or "-"
         lines.append(f"| {r['scene']} | {r['model']} | {r['full_ms']:.0f} | {r['precompute_ms']:.0f} "
                      f"({r['precompute_ms'] / r['full_ms']:.1f}) | {r['bytes'] / 2**20:.0f} ({r['texels']}, "
                      f"{r['factors']}) | {r['relit_ms']:.0f} ({r['full_moved_ms']:.0f}: "
-                     f"{r['full_moved_ms'] / r['relit_ms']:.1f}x) | {100 * r['precomputed_vs_reference']:.2f} %, "
+                     f"{r['full_moved_ms'] / r['relit_ms']:.1f}x) | {r['own_relit_ms']:.0f} ({r['own_full_ms']:.0f}: "
+                     f"{r['own_full_ms'] / r['own_relit_ms']:.1f}x; {r['own_size'][0]} x {r['own_size'][1]}) | "
+                     f"{100 * r['precomputed_vs_reference']:.2f} %, "
                      f"{100 * r['full_vs_reference']:.2f} % | {100 * r['precomputed_vs_truth']:.1f} %, "
                      f"{100 * r['full_vs_truth']:.1f} % | {100 * r['moved_vs_full']:.2f} % | {deforming} |")
     return "\n".join(lines)
