@@ -101,20 +101,30 @@ void IrradianceBuffer::applyIncidence(const Scene& scene, const GpuScene& gpu, c
   gl::checkErrors("incidence factor");
 }
 
-void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, const LightView& view,
-                                     const SoftEntries& soft) {
-  if (!entryProgram_) entryProgram_ = gl::makeProgram("mesh.vert", "", "entry_points.frag");
-  const glm::vec4 empty(0, 0, 0, -2), far(1e30f, 0, 0, 0);
-  GLuint p = entryProgram_.id();
-  beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, glm::vec4(0.0f), empty, far}, p);
+namespace {
+
+// What irradiance_buffer.frag and entry_points.frag both read: the light view, the buffer's
+// resolution and the soft shadows on the light entering.
+void setViewUniforms(GLuint p, const LightView& view, int resolution, const SoftEntries& soft) {
   setLightUniforms(p, view);
-  glUniform1i(uniform(p, "resolution"), resolution_);
+  glUniform1i(uniform(p, "resolution"), resolution);
   glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);
   if (soft.on()) {
     setSoftShadowUniforms(p, view);
     glUniform1i(uniform(p, "softMapResolution"), soft.resolution);
     bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, soft.map);
   }
+}
+
+}  // namespace
+
+void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, const LightView& view,
+                                     const SoftEntries& soft) {
+  if (!entryProgram_) entryProgram_ = gl::makeProgram("mesh.vert", "", "entry_points.frag");
+  const glm::vec4 empty(0, 0, 0, -2), far(1e30f, 0, 0, 0);
+  GLuint p = entryProgram_.id();
+  beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, glm::vec4(0.0f), empty, far}, p);
+  setViewUniforms(p, view, resolution_, soft);
   drawMeshes(scene, gpu, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);
 }
@@ -126,18 +136,11 @@ void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const Lig
     beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far, zero}, p);
   else
     beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far}, p);
-  setLightUniforms(p, view);
-  glUniform1i(uniform(p, "resolution"), resolution_);
+  setViewUniforms(p, view, resolution_, soft);
   glUniform1f(uniform(p, "orthoTexelArea"), view.orthoTexelArea);
   glUniform1f(uniform(p, "tanHalfFov"), view.tanHalfFov);
   glUniform1f(uniform(p, "footprintSigma"), float(SplatKernel::kFootprintSigma));
   glUniform1i(uniform(p, "profileSplits"), profileSplits_ ? 1 : 0);
-  glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);
-  if (soft.on()) {
-    setSoftShadowUniforms(p, view);
-    glUniform1i(uniform(p, "softMapResolution"), soft.resolution);
-    bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, soft.map);
-  }
   drawMeshes(scene, gpu, p, view.viewProj);
   glDisable(GL_DEPTH_TEST);
 }
