@@ -302,16 +302,10 @@ TEST_F(Precomputed, ReusedForLightsAndCameraNotForMeshOrMaterial) {
     if (change.exact) {
       EXPECT_EQ(image, truth) << change.what << ": not the image of a fresh precomputation";
     } else {  // as close to REFERENCE as the fresh precomputation's frame
-      auto relative = [](const std::vector<float>& a, const std::vector<float>& b) {
-        double error = 0.0, norm = 0.0;
-        for (size_t i = 0; i < a.size(); ++i)
-          if (i % 4 != 3) error += double(a[i] - b[i]) * (a[i] - b[i]), norm += double(b[i]) * b[i];
-        return std::sqrt(error / norm);
-      };
       std::vector<float> reference = render(SS_METHOD_REFERENCE, size);
-      double ours = relative(image, reference), theirs = relative(truth, reference);
+      double ours = testing::relativeRmse(image, reference), theirs = testing::relativeRmse(truth, reference);
       std::printf("%s: against REFERENCE, relit %.4f, precomputed afresh %.4f (from each other %.4f)\n", change.what,
-                  ours, theirs, relative(image, truth));
+                  ours, theirs, testing::relativeRmse(image, truth));
       EXPECT_LE(ours, theirs + 0.003) << change.what;
     }
     if (std::string(change.what) != "the same mesh sent again")

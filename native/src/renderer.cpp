@@ -538,11 +538,8 @@ void Renderer::renderPrecomputed(int width, int height) {
   precomputedTransport_.relight(scene_, progress_);
   stats_.relight_ms = std::chrono::duration<double, std::milli>(Clock::now() - relightStart).count();
   stats_.transport_reused = reuse ? 1 : 0;
-  stats_.precomputed_bytes = precomputedTransport_.bytes();
-  for (const PrecomputedTransport::Object& o : precomputedTransport_.objects()) {
-    stats_.precomputed_texels += o.active.size();
-    stats_.precomputed_factors += o.factors();
-  }
+  for (const SsPrecomputedObject& o : precomputedObjects())
+    stats_.precomputed_bytes += o.bytes, stats_.precomputed_texels += o.texels, stats_.precomputed_factors += o.factors;
   precomputedDisplay_.draw(precomputedTransport_, scene_, scene_.camera());
 }
 

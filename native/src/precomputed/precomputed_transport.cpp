@@ -395,15 +395,14 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     const Mesh& mesh = *wm.mesh;
     const size_t triangles = mesh.triangleCount;
     std::vector<char> include(triangles, 0);
-    double area = 0.0, support = 0.0, detail = std::numeric_limits<double>::infinity();
+    const double area = translucentArea(wm);
+    double support = 0.0, detail = std::numeric_limits<double>::infinity();
     bool any = false;
     for (size_t t = 0; t < triangles; ++t) {
       uint32_t base = (*wm.materials)[t];
       if (!profiles[base].translucent) continue;
       include[t] = 1;
       any = true;
-      glm::uvec3 v = wm.triangle(uint32_t(t));
-      area += 0.5 * double(glm::length(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x])));
       int count = entries[base].mapped() ? entries[base].profiles->profileCount() : 1;
       for (int e = 0; e < count; ++e) {
         const EntryProfile& p = profiles[size_t(base) + size_t(e)];
