@@ -16,12 +16,40 @@ uniform float lambdaZ, lambdaM;
 uniform float boundingDiameter;  // R_w
 layout(location = 0) out vec4 exitance[8];
 
-// Eq. 17's material weight, exp(-lambda_m |R_P(x_o) - R_P(x_j)|), with R_P
-// in millimetres, the unit the paper's profiles are measured in: a property of
-// the materials, whatever the scene's unit or size (docs/HETEROGENEOUS.md).
-float materialWeight(int a, int b) {
-  float ra = materials[a].ranges.y * materials[a].ranges.w, rb = materials[b].ranges.y * materials[b].ranges.w;
-  return exp(-lambdaM * abs(ra - rb));
+// Eq. 17's material term uses R_P in millimetres, the unit the paper's profiles are measured
+// in: a property of the materials, whatever the scene's unit or size (docs/HETEROGENEOUS.md).
+float rangeMm(int m) { return materials[m].ranges.y * materials[m].ranges.w; }
+
+// Coarse pixel c's weight for this pixel (at depth z, material m, on object po.w) is its bilinear
+// weight times exp(-x), x = lambda_z |z - z_c| / R_w + lambda_m |R_P - R_P,c| (eq. 17); this is x,
+// or -1 where c is on another object or not translucent (no weight).
+float exponent(ivec2 c, vec4 po, int m, float z) {
+  vec4 cpo = texelFetch(splattingPositionObject, c, fineLevel + 1);
+  if (cpo.w != po.w) return -1.0;
+  int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
+  if (!isTranslucent(cm)) return -1.0;
+  float cz = dot(cpo.xyz - cameraPosition, cameraForward);
+  return lambdaZ * abs(z - cz) / boundingDiameter + lambdaM * abs(rangeMm(m) - rangeMm(cm));
+}
+
+// The candidates: the four bilinear neighbours of the pixel's centre in level k + 1 or, where none
+// of them is on this object (a silhouette or thin part narrower than a coarse pixel), the 4 x 4
+// ring around them by depth and material alone rather than dropping the coarse levels' light.
+ivec2 candidate(ivec2 base, int i, bool ring) {
+  ivec2 o = ring ? ivec2(i & 3, i >> 2) - 1 : ivec2(i & 1, i >> 1);
+  return clamp(base + o, ivec2(0), coarseSize - 1);
+}
+float bilinear(vec2 f, int i, bool ring) {
+  if (ring) return 1.0;
+  return ((i & 1) == 1 ? f.x : 1.0 - f.x) * ((i >> 1) == 1 ? f.y : 1.0 - f.y);
+}
+float nearestExponent(ivec2 base, bool ring, vec4 po, int m, float z) {
+  float nearest = -1.0;
+  for (int i = 0; i < (ring ? 16 : 4); ++i) {
+    float x = exponent(candidate(base, i, ring), po, m, z);
+    if (x >= 0.0 && (nearest < 0.0 || x < nearest)) nearest = x;
+  }
+  return nearest;
 }
 
 vec4 sums[8];
@@ -32,6 +60,15 @@ void gather(ivec2 c, float w) {
   }
   for (int l = 0; l < transportLayers; ++l) sums[l] += w * texelFetch(coarseTransport, ivec3(c, l), 0);
 }
+
+// Eq. 17 normalizes the weights, so each is taken relative to the largest exp(-x) (the nearest
+// candidate's), and one below a float's resolution of that (x - nearest > 24 ln 2) is none. As
+// they stand the weights underflow where every neighbour's material is far from this pixel's
+// (lambda_m = 8 per mm: 11 mm of R_P is e^-88, past the smallest normal float), and what a sum
+// of denormals gives is the implementation's choice (GLSL lets it flush them or not): llvmpipe
+// gave the same frame two answers from one process to the next (docs/ANIMATION.md,
+// "Determinism across processes").
+const float NEGLIGIBLE_EXPONENT = 24.0 * 0.6931472;
 
 void main() {
   for (int l = 0; l < 8; ++l) sums[l] = vec4(0.0);
@@ -44,39 +81,22 @@ void main() {
   vec2 q = (vec2(p) + 0.5) * 0.5 - 0.5;  // this pixel's centre in level k + 1 pixels
   ivec2 base = ivec2(floor(q));
   vec2 f = q - vec2(base);
-  float total = 0.0;  // sums' alpha: the TABULATED model's exitance-weighted incidence cosine
-  for (int i = 0; i < 4; ++i) {
-    ivec2 o = ivec2(i & 1, i >> 1);
-    ivec2 c = clamp(base + o, ivec2(0), coarseSize - 1);
-    vec4 cpo = texelFetch(splattingPositionObject, c, fineLevel + 1);
-    if (cpo.w != po.w) continue;
-    int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
-    if (!isTranslucent(cm)) continue;
-    float wp = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-    float cz = dot(cpo.xyz - cameraPosition, cameraForward);
-    float wz = exp(-lambdaZ * abs(z - cz) / boundingDiameter);
-    float wm = materialWeight(m, cm);
-    float w = wp * wz * wm;
+  bool ring = false;
+  float nearest = nearestExponent(base, false, po, m, z);
+  if (nearest < 0.0) {
+    ring = true;
+    nearest = nearestExponent(base, true, po, m, z);
+    if (nearest < 0.0) discard;
+  }
+  float total = 0.0;
+  for (int i = 0; i < (ring ? 16 : 4); ++i) {
+    ivec2 c = candidate(base, i, ring);
+    float x = exponent(c, po, m, z);
+    if (x < 0.0 || x - nearest > NEGLIGIBLE_EXPONENT) continue;
+    float w = bilinear(f, i, ring) * exp(nearest - x);
     gather(c, w);
     total += w;
   }
-  if (total <= 0.0) {
-    // No coarse neighbour on this object (a silhouette or thin part narrower
-    // than a coarse pixel): take the 3 x 3 ring around it by depth and material
-    // alone rather than dropping the coarse levels' light.
-    for (int dy = -1; dy <= 2; ++dy)
-      for (int dx = -1; dx <= 2; ++dx) {
-        ivec2 c = clamp(base + ivec2(dx, dy), ivec2(0), coarseSize - 1);
-        vec4 cpo = texelFetch(splattingPositionObject, c, fineLevel + 1);
-        if (cpo.w != po.w) continue;
-        int cm = int(texelFetch(splattingNormalMaterial, c, fineLevel + 1).w);
-        if (!isTranslucent(cm)) continue;
-        float cz = dot(cpo.xyz - cameraPosition, cameraForward);
-        float w = exp(-lambdaZ * abs(z - cz) / boundingDiameter) * materialWeight(m, cm);
-        gather(c, w);
-        total += w;
-      }
-    if (total <= 0.0) discard;
-  }
+  // (alpha: the TABULATED model's exitance-weighted incidence cosine, gathered alike)
   for (int l = 0; l < max(transportLayers, 1); ++l) exitance[l] = sums[l] / total;
 }
