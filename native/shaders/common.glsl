@@ -232,26 +232,38 @@ uniform vec3 lightAreaPolygon[16];
 
 // Lambert's formula for a polygon of unit radiance over a surface at p of normal n, the polygon
 // clipped to n's hemisphere; 0 behind the emitter (reference/lighting.cpp: polygonIrradiance).
+// The clipped polygon's vertices are taken as they come, each closing the edge from the one
+// before it and the last closing to the first (the sum in the same order as the CPU's). They are
+// not kept in a local array: llvmpipe gives an array indexed at run time a cost in every fragment
+// of every shader that has one, reached or not (docs/BENCHMARKS.md, "The irradiance pass on llvmpipe").
+float polygonEdge(vec3 a, vec3 b, vec3 n) {
+  if (length(a) < 1e-12 || length(b) < 1e-12) return 0.0;
+  a = normalize(a), b = normalize(b);
+  vec3 c = cross(a, b);
+  float l = length(c);
+  if (l < 1e-12) return 0.0;
+  return acos(clamp(dot(a, b), -1.0, 1.0)) * dot(n, c / l);
+}
+void polygonVertex(vec3 v, vec3 n, inout vec3 first, inout vec3 previous, inout int count, inout float sum) {
+  if (count == 0)
+    first = v;
+  else
+    sum += polygonEdge(previous, v, n);
+  previous = v;
+  ++count;
+}
 float polygonIrradiance(vec3 p, vec3 n) {
   if (dot(p - lightAreaPolygon[0], lightDirection) <= 0.0) return 0.0;
-  vec3 v[18];
+  vec3 first = vec3(0.0), previous = vec3(0.0);
   int count = 0;
+  float sum = 0.0;
   for (int i = 0; i < lightAreaCorners; ++i) {
     vec3 a = lightAreaPolygon[i] - p, b = lightAreaPolygon[(i + 1) % lightAreaCorners] - p;
     float da = dot(n, a), db = dot(n, b);
-    if (da >= 0.0) v[count++] = a;
-    if ((da >= 0.0) != (db >= 0.0)) v[count++] = a + (b - a) * (da / (da - db));
+    if (da >= 0.0) polygonVertex(a, n, first, previous, count, sum);
+    if ((da >= 0.0) != (db >= 0.0)) polygonVertex(a + (b - a) * (da / (da - db)), n, first, previous, count, sum);
   }
-  float sum = 0.0;
-  for (int i = 0; i < count; ++i) {
-    vec3 a = v[i], b = v[(i + 1) % count];
-    if (length(a) < 1e-12 || length(b) < 1e-12) continue;
-    a = normalize(a), b = normalize(b);
-    vec3 c = cross(a, b);
-    float l = length(c);
-    if (l < 1e-12) continue;
-    sum += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(n, c / l);
-  }
+  if (count > 0) sum += polygonEdge(previous, first, n);
   return 0.5 * abs(sum);
 }
 
