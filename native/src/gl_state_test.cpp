@@ -70,6 +70,7 @@ std::string bindings() {
            {"array_buffer", GL_ARRAY_BUFFER_BINDING},
            {"pixel_pack_buffer", GL_PIXEL_PACK_BUFFER_BINDING},
            {"pixel_unpack_buffer", GL_PIXEL_UNPACK_BUFFER_BINDING},
+           {"draw_indirect_buffer", GL_DRAW_INDIRECT_BUFFER_BINDING},
            {"program", GL_CURRENT_PROGRAM},
            {"vertex_array", GL_VERTEX_ARRAY_BINDING},
            {"draw_framebuffer", GL_DRAW_FRAMEBUFFER_BINDING},

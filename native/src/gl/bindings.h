@@ -71,7 +71,10 @@
   X(STORAGE_SELECTION_COUNTS, 1)    \
   X(STORAGE_COVERAGE_COUNTS, 2)      \
   X(STORAGE_SPLAT_BOUNDS, 3)         \
-  X(STORAGE_EDIT_COEFFICIENTS, 4)
+  X(STORAGE_EDIT_COEFFICIENTS, 4)     \
+  X(STORAGE_SAMPLE_RANKS, 5)          \
+  X(STORAGE_SAMPLE_BLOCKS, 6)         \
+  X(STORAGE_SAMPLE_LIST, 7)
 
 // X(name, value): enums the shaders share with the C API (subsplat.h).
 #define SUBSPLAT_SHARED_ENUMS(X)    \

@@ -381,6 +381,7 @@ StateGuard::StateGuard() {
   glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pixelPackBuffer_);
   glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &pixelUnpackBuffer_);
   glGetIntegerv(GL_TEXTURE_BUFFER_BINDING, &textureBufferBuffer_);
+  glGetIntegerv(GL_DRAW_INDIRECT_BUFFER_BINDING, &drawIndirectBuffer_);
   glGetIntegerv(GL_ACTIVE_TEXTURE, &activeTexture_);
   for (size_t i = 0; i < std::size(kTextureUnits); ++i) {
     glActiveTexture(GLenum(GL_TEXTURE0 + kTextureUnits[i]));
@@ -452,6 +453,7 @@ StateGuard::~StateGuard() {
   glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(pixelPackBuffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, GLuint(pixelUnpackBuffer_));
   glBindBuffer(GL_TEXTURE_BUFFER, GLuint(textureBufferBuffer_));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, GLuint(drawIndirectBuffer_));
   for (size_t i = 0; i < std::size(kTextureUnits); ++i) {
     const TextureUnit& u = textures_[i];
     glActiveTexture(GLenum(GL_TEXTURE0 + kTextureUnits[i]));

@@ -177,7 +177,7 @@ class StateGuard {
   GLint packAlignment_ = 4, unpackAlignment_ = 4, packRowLength_ = 0, unpackRowLength_ = 0;
   GLint blendSrcRgb_ = 0, blendDstRgb_ = 0, blendSrcAlpha_ = 0, blendDstAlpha_ = 0;
   GLint blendEqRgb_ = 0, blendEqAlpha_ = 0, depthFunc_ = 0, cullFaceMode_ = 0;
-  GLint pixelPackBuffer_ = 0, pixelUnpackBuffer_ = 0, textureBufferBuffer_ = 0;
+  GLint pixelPackBuffer_ = 0, pixelUnpackBuffer_ = 0, textureBufferBuffer_ = 0, drawIndirectBuffer_ = 0;
   GLboolean depthMask_ = GL_TRUE, colorMask_[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
   GLboolean blend_ = 0, depthTest_ = 0, cullFace_ = 0, scissorTest_ = 0, stencilTest_ = 0;
   GLboolean programPointSize_ = 0, framebufferSrgb_ = 0;

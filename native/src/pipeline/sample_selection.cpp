@@ -58,4 +58,49 @@ void setSelectionUniforms(GLuint p, const Scene& scene, const LightView& view, c
   if (irradiance.profileSplits()) bindTexture(gl::UNIT_IRRADIANCE_PROFILE_SPLIT, GL_TEXTURE_2D, irradiance.profileSplit());
 }
 
+void SampleList::build(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
+                       const SplattingBuffer& splatting, const Selection& selection, SelectionCounts* counts) {
+  if (!program_) program_ = gl::makeComputeProgram("select_samples.comp");
+  GLuint p = program_.id();
+  glUseProgram(p);
+  GLint offsets[9];
+  setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
+  size_t texels = size_t(offsets[selection.levels]);
+  GLuint groups = GLuint((texels + 255) / 256);
+  if (texels > capacity_ || !list_) {
+    gl::Purpose purpose("the splatted samples' list");
+    capacity_ = std::max<size_t>(texels, 1);
+    size_t blocks = (capacity_ + 255) / 256;
+    list_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, (4 + capacity_) * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
+    ranks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, capacity_ * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
+    blocks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_LIST, list_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_RANKS, ranks_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_BLOCKS, blocks_.id());
+  if (counts) counts->bind();
+  glUniform1i(uniform(p, "countSelection"), counts ? 1 : 0);
+  for (int pass = 0; pass < 3; ++pass) {
+    glUniform1i(uniform(p, "pass"), pass);
+    glDispatchCompute(pass == 1 ? 1u : std::max(groups, 1u), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  gl::checkErrors("sample selection");
+}
+
+void SampleList::bind() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_LIST, list_.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, list_.id());
+}
+
+void SampleList::draw() const { glDrawArraysIndirect(GL_POINTS, nullptr); }
+
+GLint SampleList::count() const {
+  GLuint n = 0;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, list_.id());
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof n, &n);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+  return GLint(n);
+}
+
 }  // namespace subsplat

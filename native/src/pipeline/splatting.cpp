@@ -63,6 +63,10 @@ uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) { return c
 bool Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
                       StageProfiler& profiler, SplatCursor* cursor, SplatBudget* budget) {
+  SplatCursor whole;
+  SplatCursor& at = cursor ? *cursor : whole;
+  samples_.build(scene, view, irradiance, splatting, selection, at.counted ? nullptr : &counts_);  // counts_: zeroed by clear(), summed over views
+  at.counted = true;
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
@@ -70,8 +74,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
-  int levels = selection.levels;
-  counts_.bind();  // zeroed by clear(), summed over views
+  samples_.bind();
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -87,19 +90,17 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
   glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
-  lastSampleCount_ = offsets[levels];
-  SplatCursor whole;
-  SplatCursor& at = cursor ? *cursor : whole;
+  GLint total = budget ? samples_.count() : 0;  // only a budget draws ranges of the list
+  lastSampleCount_ = total;
   bool done = true;
   for (; at.level < splatLevels && done; ++at.level) {
     int k = at.level;
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
     glUniform1i(uniform(p, "splatLevel"), k);
-    GLint total = offsets[levels];
     if (!budget) {
       profiler.begin(SS_STAGE_SPLATTING, k);
-      glDrawArrays(GL_POINTS, 0, total);
+      samples_.draw();
       profiler.end();
       continue;
     }
@@ -170,16 +171,15 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
     else break;
   }
   glDisable(GL_BLEND);
-  if (debug_) {  // the selection pass: splat.vert's selection, drawn as points
+  if (debug_) {  // the selection pass: the view's selected samples, drawn as points
     profiler.begin(SS_STAGE_SPLATTING);
     GLuint d = selectionProgram_.id();
     glUseProgram(d);
     GLint unused[9];
     setSelectionUniforms(d, scene, view, irradiance, splatting, selection, unused);
-    glUniform1i(uniform(d, "splatLevel"), -1);  // not counted again
     glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
     glViewport(0, 0, width_, height_);
-    glDrawArrays(GL_POINTS, 0, offsets[levels]);
+    samples_.draw();
     profiler.end();
   }
   glBindVertexArray(0);

@@ -19,7 +19,8 @@ namespace subsplat {
 // sample (gl_VertexID) of that level not yet drawn.
 struct SplatCursor {
   int level = 0;
-  GLint first = 0;
+  GLint first = 0;   // in the view's sample list (pipeline/sample_selection.h)
+  bool counted = false;  // the view's selected samples were added to the frame's counts
   // A budgeted render's bound of each sample's fragments at each level of this view (splat.geom),
   // measured a slice at a time ahead of the cursor and kept while the view's renders go on.
   std::vector<std::vector<GLuint>> bounds;
@@ -34,8 +35,8 @@ struct SplatCursor {
 // its own quad).
 struct SplatBudget {
   // A sample's vertex and geometry work, charged once for measuring it and once for drawing it, in
-  // fragment invocations: a redraw through samples that draw nothing (a coarse level's unselected
-  // ones) is bounded too.
+  // fragment invocations: a redraw through samples that draw nothing at its level (whose distances
+  // all fall to the other levels) is bounded too.
   static constexpr uint64_t kSampleCost = 8;
   static constexpr GLint kBoundsSlice = 32768, kMinSlice = 256;  // samples measured at a time
   uint64_t fragments = 0;
@@ -95,6 +96,7 @@ class Splatting {
   gl::Buffer bounds_;  // SplatBounds (splat.geom), one uint per sample
   size_t boundsCapacity_ = 0;
   SelectionCounts counts_;
+  SampleList samples_;
 };
 
 }  // namespace subsplat

@@ -136,15 +136,15 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
+  samples_.build(scene, view, irradiance, splatting, selection, &counts_);  // counts_: zeroed by clear()
   GLuint p = splatProgram_.id();
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
-  glUniform1i(uniform(p, "measureBounds"), 0);
+  samples_.bind();
   glUniform1i(uniform(p, "slabGeometries"), 1);
   bindTexture(gl::UNIT_IRRADIANCE_LIGHT_DEPTH, GL_TEXTURE_2D, irradiance.lightDepth());
   if (irradiance.exitDepth()) bindTexture(gl::UNIT_IRRADIANCE_EXIT_DEPTH, GL_TEXTURE_2D, irradiance.exitDepth());
-  counts_.bind();  // zeroed by clear()
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
   glUniform2f(uniform(p, "kernelTableSize"), float(SplatKernel::kSizeD), float(SplatKernel::kSizeA));
@@ -172,7 +172,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
       glUniform1i(uniform(p, "group"), g);
       glUniform1fv(uniform(p, "layerSupport"), 3, &layerSupport_[size_t(3 * g)]);
       glUniform2f(uniform(p, "groupRange"), groupRange_[size_t(2 * g)], groupRange_[size_t(2 * g + 1)]);
-      glDrawArrays(GL_POINTS, 0, offsets[selection.levels]);
+      samples_.draw();
     }
     profiler.end();
   }

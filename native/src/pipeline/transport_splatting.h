@@ -84,6 +84,7 @@ class TransportSplatting {
   void drawCombination(GLuint framebuffer, bool storeFactors, GLuint transportTables);
   gl::Buffer coefficients_;
   SelectionCounts counts_;
+  SampleList samples_;
   size_t coefficientCapacity_ = 0;
   uint64_t bytes_ = 0;
   void uploadBasis();
