@@ -1,0 +1,41 @@
+"""Prints bench/ab_replay.sh's comparison: per scene and method, base against after."""
+import glob
+import json
+import os
+import sys
+
+import numpy as np
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        f.readline()
+        width, height = map(int, f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(height, width, -1)
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "build/ab"
+    print("| scene | method | frame ms, base / after | splatting ms, base / after | fragments (M), base / after "
+          "| samples, base / after | images: largest difference, relative RMSE |")
+    print("|---|---|---|---|---|---|---|")
+    for path in sorted(glob.glob(os.path.join(out, "base", "*.json"))):
+        scene = os.path.basename(path)[:-5]
+        base = json.load(open(path))["scenes"][0]["methods"]
+        after = json.load(open(os.path.join(out, "after", scene + ".json")))["scenes"][0]["methods"]
+        for b, a in zip(base, after):
+            m = b["method"]
+            ib = read_pfm(os.path.join(out, "base", f"{scene}_{m}.pfm"))
+            ia = read_pfm(os.path.join(out, "after", f"{scene}_{m}.pfm"))
+            largest = float(np.abs(ib - ia).max())
+            rel = float(np.sqrt(((ib - ia) ** 2).mean()) / max(np.sqrt((ib ** 2).mean()), 1e-30))
+            fb, fa = b["fragment_invocations"]["splatting"], a["fragment_invocations"]["splatting"]
+            print(f"| {scene} | {m} | {b['median_frame_ms']:.0f} / {a['median_frame_ms']:.0f} "
+                  f"({b['median_frame_ms'] / a['median_frame_ms']:.2f}x) | {b['stage_ms']['splatting']:.0f} / "
+                  f"{a['stage_ms']['splatting']:.0f} | {fb / 1e6:.1f} / {fa / 1e6:.1f} | {b['splat_count']} / "
+                  f"{a['splat_count']} | {largest:.3g}, {rel:.2g} |")
+
+
+main()
