@@ -6,14 +6,8 @@ import sys
 
 import numpy as np
 
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        f.readline()
-        width, height = map(int, f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(height, width, -1)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gpu_tables import read_pfm  # noqa: E402
 
 
 def main():
@@ -38,4 +32,5 @@ def main():
                   f"{a['splat_count']} | {largest:.3g}, {rel:.2g} |")
 
 
-main()
+if __name__ == "__main__":
+    main()
