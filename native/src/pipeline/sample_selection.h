@@ -40,8 +40,8 @@ void setSelectionUniforms(GLuint program, const Scene& scene, const LightView& v
 
 // The samples of one light view that are splatted, in the order of the hierarchy's texels
 // (select_samples.comp). Splatting's draws were one vertex per texel of every level, each running
-// Algorithm 1 again, for every splatting level: on llvmpipe a third of FULL's frame went to
-// vertices that drew nothing (docs/BENCHMARKS.md, "Selection once per light view"). The list is
+// Algorithm 1 again, for every splatting level: on llvmpipe up to two thirds of FULL's frame
+// went to vertices that drew nothing (docs/BENCHMARKS.md, "Selection once per light view"). The list is
 // made once per view and drawn by every level, with glDrawArraysIndirect or a range of it.
 class SampleList {
  public:
