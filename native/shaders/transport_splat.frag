@@ -28,6 +28,14 @@ uniform float layerSupport[3];  // this group's three layers' supports, R_P unit
 uniform float groupSplit;       // R_P units: layer 7 takes d below it in group 0, from it on in group 1
 layout(location = 0) out vec4 transport[8];
 
+// Layer t's three splines of this group at distance d (K in 1 / R_P^2, ell the range R_P).
+vec3 basisKernel(int t, float d, float ell) {
+  float support = layerSupport[t] * ell;
+  if (d >= footprintReach * splatFootprint + support) return vec3(0.0);
+  return kernelLookup(basisKernels, kernelTableSize, kernelLog2Range, footprintReach, float(3 * group + t), support, d,
+                      splatFootprint) / (ell * ell);
+}
+
 void main() {
   vec4 po = texelFetch(splattingPositionObject, ivec2(gl_FragCoord.xy), splatLevel);
   if (po.w != splatObject) discard;
@@ -40,24 +48,25 @@ void main() {
     vec3 no = texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).xyz;
     flux *= sideWeight(dot(splatNormalMu0.xyz, normalize(no)));
   }
-  float values[27];
-  for (int t = 0; t < 3; ++t) {
-    float support = layerSupport[t] * ell;
-    vec3 k = vec3(0.0);
-    if (d < footprintReach * splatFootprint + support)
-      k = kernelLookup(basisKernels, kernelTableSize, kernelLog2Range, footprintReach, float(3 * group + t), support,
-                       d, splatFootprint) / (ell * ell);
-    for (int s = 0; s < 3; ++s)
-      for (int c = 0; c < 3; ++c) values[9 * t + 3 * s + c] = k[s] * flux[c];
-  }
-  for (int l = 0; l < 7; ++l)
-    transport[l] = vec4(values[4 * l], values[4 * l + 1], values[4 * l + 2], l < 6 ? values[4 * l + 3] : 0.0);
+  // Layer t's three splines times the flux, column s = spline s's rgb (outerProduct), packed four
+  // floats a layer in the order 9 t + 3 s + c. Written out, not through a local array: llvmpipe
+  // gives every fragment of a shader with a run-time indexed array a stack copy of it.
+  mat3 a = outerProduct(flux, basisKernel(0, d, ell));
+  mat3 b = outerProduct(flux, basisKernel(1, d, ell));
+  mat3 c = outerProduct(flux, basisKernel(2, d, ell));
+  transport[0] = vec4(a[0], a[1].r);
+  transport[1] = vec4(a[1].gb, a[2].rg);
+  transport[2] = vec4(a[2].b, b[0]);
+  transport[3] = vec4(b[1], b[2].r);
+  transport[4] = vec4(b[2].gb, c[0].rg);
+  transport[5] = vec4(c[0].b, c[1]);
+  transport[6] = vec4(c[2], 0.0);
   bool mine = group == 0 ? d < groupSplit * ell : d >= groupSplit * ell;
   float support = materials[m].ranges.x;
-  vec3 b = vec3(0.0);
+  vec3 own = vec3(0.0);
   if (mine && d < footprintReach * splatFootprint + support)
-    b = flux * kernelLookup(splatKernels, kernelTableSize, kernelLog2Range, footprintReach, materials[m].optics.w,
-                            support, d, splatFootprint);
-  float w = b.r + b.g + b.b;
+    own = flux * kernelLookup(splatKernels, kernelTableSize, kernelLog2Range, footprintReach, materials[m].optics.w,
+                              support, d, splatFootprint);
+  float w = own.r + own.g + own.b;
   transport[7] = w * vec4(1.0, splatNormalMu0.w, splatSlab);
 }
