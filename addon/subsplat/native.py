@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 22  # SS_API_VERSION of subsplat.h
+API_VERSION = 23  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -153,7 +153,8 @@ class Stats(ctypes.Structure):
                 ("precompute_ms", ctypes.c_double), ("transport_reused", ctypes.c_int32),
                 ("transport_full_pipeline", ctypes.c_int32),
                 ("precomputed_bytes", ctypes.c_uint64), ("precomputed_texels", ctypes.c_uint64),
-                ("precomputed_factors", ctypes.c_uint64), ("relight_ms", ctypes.c_double)]
+                ("precomputed_factors", ctypes.c_uint64), ("relight_ms", ctypes.c_double),
+                ("selection_ms", ctypes.c_double)]
 
 
 class ProfileInfo(ctypes.Structure):
@@ -702,10 +703,12 @@ class Context:
             "nonfinite_pixels": int(s.nonfinite_pixels), "kernel_evaluations": int(s.kernel_evaluations),
             "levels": s.levels, "selected_per_level": [int(s.selected_per_level[k]) for k in range(max(s.levels, 0))],
             "splat_levels": s.splat_levels,
-            # the splatting stage's parts: each splatting level, then eq. 17's accumulation
+            # the splatting stage's parts: each splatting level, eq. 17's accumulation, and Algorithm 1's
+            # sample list (selection_ms, made once per light view)
             "splat_level_ms": [s.splat_level_ms[k] for k in range(max(s.splat_levels, 0))],
             "splat_level_fragments": [int(s.splat_level_fragments[k]) for k in range(max(s.splat_levels, 0))],
             "accumulation_ms": s.accumulation_ms, "accumulation_fragments": int(s.accumulation_fragments),
+            "selection_ms": s.selection_ms,
             "irradiance_resolution": s.irradiance_resolution, "texels_per_range": s.texels_per_range,
             "samples": s.samples, "shadow_resolution": s.shadow_resolution,
             "splatting_complete": bool(s.splatting_complete), "splatting_progress": s.splatting_progress,

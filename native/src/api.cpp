@@ -301,6 +301,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsStats, precomputed_texels),
     SS_FIELD(SsStats, precomputed_factors),
     SS_FIELD(SsStats, relight_ms),
+    SS_FIELD(SsStats, selection_ms),
     SS_STRUCT(SsPrecomputedObject),
     SS_FIELD(SsPrecomputedObject, object_id),
     SS_FIELD(SsPrecomputedObject, vertices),

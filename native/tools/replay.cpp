@@ -398,7 +398,7 @@ void printTable(const SceneResults& scene) {
     if (r.variant.method == SS_METHOD_BRUTE && !base) base = &r;
   std::printf("\n%s (%dx%d)\n%-12s %6s %10s %8s %10s %8s %9s  %s\n", scene.name.c_str(), scene.width, scene.height,
               "method", "levels", "median ms", "speed-up", "fragments", "ratio", "rel RMSE",
-              "splatting ms: levels | accumulation");
+              "splatting ms: levels | accumulation | selection");
   for (const Result& r : scene.results) {
     const SsStats& st = r.fastest;
     std::string levels = std::to_string(st.levels) + "/" + std::to_string(st.splat_levels);
@@ -406,6 +406,7 @@ void printTable(const SceneResults& scene) {
     for (int k = 0; k < st.splat_levels; ++k)
       perLevel += (k ? " " : "") + std::to_string(int(st.splat_level_ms[k] + 0.5));
     perLevel += " | " + std::to_string(int(st.accumulation_ms + 0.5));
+    perLevel += " | " + std::to_string(int(st.selection_ms + 0.5));
     char rmse[32] = "-";
     if (r.hasErrors) std::snprintf(rmse, sizeof rmse, "%.5f", r.errors.radiance);
     double speedUp = base ? base->medianMs / r.medianMs : 0.0;
@@ -437,7 +438,7 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     json << (v ? ", " : "") << "{\"method\": \"" << jsonEscape(r.variant.label) << "\", \"median_frame_ms\": "
          << r.medianMs << ", \"frame_ms\": ";
     jsonList<double>(json, int(r.runs.size()), [&](int i) { return r.runs[size_t(i)].frame_ms; });
-    json << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels
+    json << ", \"light_views\": " << st.light_views << ", \"levels\": " << st.levels << ", \"splat_levels\": " << st.splat_levels
          << ", \"irradiance_resolution\": " << st.irradiance_resolution
          << ", \"texels_per_range\": " << st.texels_per_range
          << ", \"timers_available\": " << (st.timers_available ? "true" : "false")
@@ -450,7 +451,8 @@ void writeJson(std::ostream& json, const SceneResults& scene) {
     json << ", \"splat_level_fragments\": ";
     jsonList<uint64_t>(json, st.splat_levels, [&](int k) { return st.splat_level_fragments[k]; });
     json << ", \"accumulation_ms\": " << st.accumulation_ms
-         << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"splat_count\": " << st.splat_count
+         << ", \"accumulation_fragments\": " << st.accumulation_fragments << ", \"selection_ms\": " << st.selection_ms
+         << ", \"splat_count\": " << st.splat_count
          << ", \"precompute_ms\": " << st.precompute_ms << ", \"transport_reused\": " << st.transport_reused
          << ", \"relight_ms\": " << st.relight_ms << ", \"precomputed_bytes\": " << st.precomputed_bytes;
     if (!r.budgetRuns.empty()) {

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 22
+#define SS_API_VERSION 23
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -276,8 +276,10 @@ typedef struct SsStats {
   uint64_t selected_per_level[8];
   int32_t splat_levels;  /* splatting levels used (1: single resolution) */
   /* SS_STAGE_SPLATTING split into its parts (the paper's Table 2): splatting into
-   * level k over all light views, and eq. 17's accumulation. The debug selection
-   * pass, when on, is in the stage total only. */
+   * level k over all light views, and eq. 17's accumulation (the third part,
+   * selection_ms, is at the end). The debug selection pass, when on, is in the
+   * stage total only; a budgeted render's measuring of its samples' bounds is in
+   * no stage. */
   double splat_level_ms[8];
   uint64_t splat_level_fragments[8];
   double accumulation_ms;
@@ -315,6 +317,10 @@ typedef struct SsStats {
   uint64_t precomputed_texels;
   uint64_t precomputed_factors;
   double relight_ms;
+  /* SS_STAGE_SPLATTING's third part (API 23), besides the levels and the accumulation: Algorithm 1
+   * run once per light view into the list of samples every level draws (select_samples.comp), over
+   * all light views. A compute pass: no fragments. */
+  double selection_ms;
 } SsStats;
 
 /* SS_METHOD_PRECOMPUTED (API 22): one translucent object of the precomputation the context holds

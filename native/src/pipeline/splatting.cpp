@@ -65,7 +65,9 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
                       StageProfiler& profiler, SplatCursor* cursor, SplatBudget* budget) {
   SplatCursor whole;
   SplatCursor& at = cursor ? *cursor : whole;
+  profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kSelection);
   samples_.build(scene, view, irradiance, splatting, selection, at.counted ? nullptr : &counts_);  // counts_: zeroed by clear(), summed over views
+  profiler.end();
   at.counted = true;
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);

@@ -70,6 +70,8 @@ void StageProfiler::collect(SsStats& stats) {
     } else if (span.part == kAccumulation) {
       stats.accumulation_ms += ms;
       stats.accumulation_fragments += fragments;
+    } else if (span.part == kSelection) {
+      stats.selection_ms += ms;
     }
   }
   stats.timers_available = timesValid;

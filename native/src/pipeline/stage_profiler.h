@@ -1,5 +1,5 @@
 // GL timer and fragment-invocation queries per pipeline stage. A span may name
-// a part of the splatting stage (a splatting level, or the accumulation), which
+// a part of the splatting stage (a splatting level, the accumulation, or the selection), which
 // SsStats reports besides the stage total. Results are read once, in collect(),
 // so the queries never stall the frame. One profiler lives per context: its
 // query objects are made once and reused by the spans of every later frame.
@@ -17,6 +17,7 @@ class StageProfiler {
  public:
   static constexpr int kWhole = -1;         // the stage only
   static constexpr int kAccumulation = 8;   // splatting: eq. 17; 0..7: splatting level k
+  static constexpr int kSelection = 9;      // splatting: Algorithm 1's sample list (select_samples.comp)
   StageProfiler();
   void newFrame();  // forgets the spans of a frame that ended without collect() (an error)
   void begin(SsStage stage, int part = kWhole);  // one span at a time

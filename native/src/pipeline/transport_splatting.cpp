@@ -136,7 +136,9 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
+  profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kSelection);
   samples_.build(scene, view, irradiance, splatting, selection, &counts_);  // counts_: zeroed by clear()
+  profiler.end();
   GLuint p = splatProgram_.id();
   glUseProgram(p);
   GLint offsets[9];
