@@ -10,15 +10,21 @@
 // two profiles (its split) must be fine enough for both. Each level-0 texel is therefore covered by
 // exactly one selected sample. Only texels of a translucent material are listed.
 //
-// Three passes (pass):
-//   0. each workgroup numbers its selected texels in order (rank, ~0 where not selected) and
-//      writes how many it has (blocks);
+// Three passes (pass), over chunks of kChunk consecutive samples, one chunk an invocation:
+//   0. each invocation evaluates its chunk (which samples are chosen: a bit mask), the workgroup
+//      numbers its chunks' chosen samples in order, and each invocation writes its first number
+//      within the workgroup and its mask (ranks); the workgroup writes how many it has (blocks);
 //   1. one workgroup turns those counts into each workgroup's first place in the list and writes
 //      the total as glDrawArraysIndirect's command;
-//   2. each selected texel's number is written at its place.
+//   2. each invocation writes its chunk's chosen samples' numbers from its place on.
 // The list is in the samples' order whatever order the invocations run in, so splats blend in the
 // same order on every run and every driver (docs/ANIMATION.md, "Determinism across processes").
-layout(local_size_x = 256) in;
+// Chunks, not a sample an invocation: a workgroup's scan costs barriers, which llvmpipe runs by
+// switching between its invocations; with 16 samples an invocation a workgroup of 64 scans 1024
+// samples in 2 barriers (256 samples took 17 before: docs/BENCHMARKS.md, "Selection once per light
+// view").
+layout(local_size_x = 64) in;
+const int kChunk = 16;  // samples an invocation: SampleList::kGroupSamples = 64 x 16 a workgroup
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(binding = UNIT_IRRADIANCE_DEPTH_RANGE) uniform sampler2D irradianceDepthRange;  // levels >= 1
@@ -38,8 +44,9 @@ layout(std430, binding = STORAGE_SAMPLE_LIST) buffer SampleList {
   uint command[4];  // glDrawArraysIndirect's: count, instances, first, base instance
   uint samples[];
 };
-const uint kNone = 0xFFFFFFFFu;
-shared uint scan[256];
+shared uint scan[64];
+shared uint scanTotal;
+shared uint groupSelected[8];
 
 bool valid(int level, ivec2 texel) {
   vec4 pm = texelFetch(irradiancePositionMaterial, texel, level);
@@ -74,40 +81,61 @@ bool isSelected(int i, out int level) {
   return pm.w >= 0.0 && isTranslucent(int(pm.w));
 }
 
-// Inclusive prefix sums of scan[] across the workgroup (Hillis and Steele).
-void scanWorkgroup() {
-  uint lane = gl_LocalInvocationID.x;
-  for (uint offset = 1u; offset < 256u; offset <<= 1) {
-    barrier();
-    uint v = lane >= offset ? scan[lane - offset] : 0u;
-    barrier();
-    scan[lane] += v;
+// Exclusive prefix sums of scan[] across the workgroup, in place; returns the workgroup's total.
+// One invocation adds them up: 64 additions cost llvmpipe less than a parallel scan's barriers.
+uint scanWorkgroup() {
+  barrier();
+  if (gl_LocalInvocationID.x == 0u) {
+    uint sum = 0u;
+    for (int j = 0; j < 64; ++j) {
+      uint v = scan[j];
+      scan[j] = sum;
+      sum += v;
+    }
+    scanTotal = sum;
   }
   barrier();
+  return scanTotal;
 }
 
 void main() {
   uint lane = gl_LocalInvocationID.x;
   int total = levelOffset[levels];
+  int first = int(gl_GlobalInvocationID.x) * kChunk;
   if (pass == 0) {
-    int i = int(gl_GlobalInvocationID.x);
-    int level = 0;
-    bool chosen = i < total && isSelected(i, level);
-    scan[lane] = chosen ? 1u : 0u;
-    scanWorkgroup();
-    if (i < total) rank[i] = chosen ? scan[lane] - 1u : kNone;
-    if (lane == 255u) blocks[gl_WorkGroupID.x] = scan[255];
-    if (chosen && countSelection != 0) atomicAdd(selected[level], 1u);
+    if (lane < 8u) groupSelected[lane] = 0u;
+    barrier();
+    uint mask = 0u, count = 0u, run = 0u;
+    int runLevel = 0;
+    for (int j = 0; j < kChunk; ++j) {
+      int level = 0;
+      if (first + j >= total || !isSelected(first + j, level)) continue;
+      mask |= 1u << j;
+      ++count;
+      if (countSelection == 0) continue;
+      if (level != runLevel && run > 0u) {
+        atomicAdd(groupSelected[runLevel], run);
+        run = 0u;
+      }
+      runLevel = level;
+      ++run;
+    }
+    if (run > 0u) atomicAdd(groupSelected[runLevel], run);
+    scan[lane] = count;
+    uint sum = scanWorkgroup();
+    rank[gl_GlobalInvocationID.x] = (scan[lane] << 16) | mask;
+    if (lane == 0u) blocks[gl_WorkGroupID.x] = sum;
+    if (countSelection != 0 && lane < 8u && groupSelected[lane] > 0u) atomicAdd(selected[lane], groupSelected[lane]);
   } else if (pass == 1) {
-    uint count = uint((total + 255) / 256), carry = 0u;
-    for (uint base = 0u; base < count; base += 256u) {
+    uint count = uint((total + 64 * kChunk - 1) / (64 * kChunk)), carry = 0u;  // pass 0's workgroups
+    for (uint base = 0u; base < count; base += 64u) {
       uint b = base + lane;
       uint v = b < count ? blocks[b] : 0u;
       scan[lane] = v;
-      scanWorkgroup();
-      if (b < count) blocks[b] = carry + scan[lane] - v;
-      carry += scan[255];
-      barrier();  // every lane has read scan[255] before the next chunk writes it
+      uint sum = scanWorkgroup();
+      if (b < count) blocks[b] = carry + scan[lane];
+      carry += sum;
+      barrier();  // every lane has read scan[] before the next chunk writes it
     }
     if (lane == 0u) {
       command[0] = carry;
@@ -116,9 +144,9 @@ void main() {
       command[3] = 0u;
     }
   } else {
-    int i = int(gl_GlobalInvocationID.x);
-    if (i >= total) return;
-    uint r = rank[i];
-    if (r != kNone) samples[blocks[gl_WorkGroupID.x] + r] = uint(i);
+    if (first >= total) return;
+    uint r = rank[gl_GlobalInvocationID.x];
+    uint place = blocks[gl_WorkGroupID.x] + (r >> 16);
+    for (uint mask = r & 0xFFFFu; mask != 0u; mask &= mask - 1u) samples[place++] = uint(first + findLSB(mask));
   }
 }

@@ -66,13 +66,13 @@ void SampleList::build(const Scene& scene, const LightView& view, const Irradian
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   size_t texels = size_t(offsets[selection.levels]);
-  GLuint groups = GLuint((texels + 255) / 256);
+  GLuint groups = GLuint((texels + kGroupSamples - 1) / kGroupSamples);
   if (texels > capacity_ || !list_) {
     gl::Purpose purpose("the splatted samples' list");
     capacity_ = std::max<size_t>(texels, 1);
-    size_t blocks = (capacity_ + 255) / 256;
+    size_t blocks = (capacity_ + kGroupSamples - 1) / kGroupSamples;
     list_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, (4 + capacity_) * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
-    ranks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, capacity_ * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
+    ranks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * 64 * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
     blocks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_LIST, list_.id());

@@ -55,11 +55,13 @@ class SampleList {
   void draw() const;
   // The number of samples listed (a read-back: for drawing ranges of the list).
   GLint count() const;
+  static constexpr size_t kGroupSamples = 1024;  // select_samples.comp: 64 invocations of 16 samples
 
  private:
   gl::Program program_;
-  gl::Buffer list_, ranks_, blocks_;  // list_: the indirect command, then the samples
-  size_t capacity_ = 0;               // texels the buffers hold
+  gl::Buffer list_, ranks_, blocks_;  // list_: the indirect command, then the samples; ranks_: a
+                                      // uint an invocation; blocks_: a uint a workgroup
+  size_t capacity_ = 0;               // samples the buffers hold
 };
 
 }  // namespace subsplat
