@@ -437,6 +437,13 @@ bool splatQuad(vec3 c, float radius, mat4 worldToView, mat4 viewToClip, out vec2
   hi = min(hi, vec2(1.0));
   return !any(greaterThanEqual(lo, hi));
 }
+// The depth (over depthFar, splat_depth.frag's) of the far side of the sphere of radius `radius`
+// around view-space point c, where a splat's quad lies for the depth test (pipeline/splat_depth.h).
+// Every surface point within the sphere is nearer than -c.z + radius; the margins cover the
+// rounding of this depth and of the stored one.
+float splatFarDepth(vec3 c, float radius, float depthFar) {
+  return clamp((-c.z + radius * 1.001) / depthFar + 1e-6, 0.0, 1.0);
+}
 // A splat kernel table's value (material/splat_kernel.h) for a profile of support `support` in
 // layer `layer` at distance d, for a footprint sigma (splat.frag's kernelAt; transport_splat.frag).
 // Past the table's widest footprint the kernel is self-similar: the widest row at d scaled down,

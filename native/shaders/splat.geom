@@ -18,6 +18,7 @@ in SplatSample {
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
+uniform float depthFar;  // splat_depth.frag's: the quad's depth is its sphere's far side over it
 uniform float footprintReach;  // x sigma
 uniform vec2 kernelLog2Range;  // table rows: log2(sigma / support) at first and last
 // Multiresolution splatting (eq. 12-14): level splatLevel of splatLevels takes
@@ -80,6 +81,7 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
 
   float row = (log2(footprint / materials[m].ranges.x) - kernelLog2Range.x) /
               (kernelLog2Range.y - kernelLog2Range.x);
+  float far = splatFarDepth(c, range.y, depthFar);
   for (int i = 0; i < 4; ++i) {
     splatKernelRow = clamp(row, 0.0, 1.0);
     splatRange = range;
@@ -89,7 +91,7 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     splatObject = sampleIn[0].object;
     splatMaterial = m;
     splatNormalMu0 = sampleIn[0].normalMu0;
-    gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 0.0, 1.0);
+    gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 2.0 * far - 1.0, 1.0);
     EmitVertex();
   }
   EndPrimitive();

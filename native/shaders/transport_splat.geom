@@ -19,6 +19,7 @@ in SplatSample {
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
+uniform float depthFar;  // splat_depth.frag's: the quad's depth is its sphere's far side over it
 uniform float footprintReach;  // x sigma
 uniform int splatLevel;
 uniform int splatLevels;
@@ -73,6 +74,7 @@ void main() {
   }
   vec2 lo, hi;
   if (!splatQuad(c, range.y, worldToView, viewToClip, lo, hi)) return;
+  float far = splatFarDepth(c, range.y, depthFar);
   for (int i = 0; i < 4; ++i) {
     splatRange = range;
     splatPosition = sampleIn[0].position;
@@ -82,7 +84,7 @@ void main() {
     splatMaterial = m;
     splatNormalMu0 = sampleIn[0].normalMu0;
     splatSlab = sampleIn[0].slab;
-    gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 0.0, 1.0);
+    gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 2.0 * far - 1.0, 1.0);
     EmitVertex();
   }
   EndPrimitive();

@@ -252,8 +252,10 @@ void Renderer::render(int width, int height, float* rgba) {
     profiler.begin(SS_STAGE_BUFFERS);
     splatting_.render(scene_, gpuScene_);
     splatting_.buildHierarchy(scene_.camera());
-    profiler.end();
     splats_.clear();
+    splats_.prepareDepth(scene_, splatting_);
+    if (editing && !reuse) transport_.prepareDepth(scene_, splatting_);
+    profiler.end();
     resume = Resume{};
   }
   // Going on with one sample, the direct light is the first render's (anti-aliasing's other

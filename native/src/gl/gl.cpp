@@ -252,7 +252,7 @@ Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int f
   return framebuffer;
 }
 
-Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers) {
+Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers, GLuint depthTexture) {
   GLuint id = 0;
   glGenFramebuffers(1, &id);
   Framebuffer framebuffer(id);
@@ -262,6 +262,7 @@ Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers) {
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + GLenum(l), arrayTexture, 0, l);
     drawBuffers.push_back(GL_COLOR_ATTACHMENT0 + GLenum(l));
   }
+  if (depthTexture) glFramebufferTexture(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depthTexture, 0);
   completeFramebuffer(drawBuffers);
   return framebuffer;
 }

@@ -133,7 +133,7 @@ Texture makeBufferTexture(GLenum internalFormat, const Buffer& buffer);
 VertexArray makeVertexArray();
 Framebuffer makeFramebuffer(std::initializer_list<GLuint> colorTextures, GLuint depthTexture);
 // Layers 0 .. layers - 1 of a 2D array texture as colour attachments 0 .. layers - 1.
-Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers);
+Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers, GLuint depthTexture = 0);
 // A 2D texture as colour attachment 0, then layers first .. first + layers - 1 of a 2D array
 // texture as attachments 1 .. layers.
 Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int first, int layers);

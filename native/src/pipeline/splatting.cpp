@@ -22,9 +22,10 @@ void Splatting::resize(int width, int height, int levels) {
   levelCopies_.clear();
   selectionFramebuffer_ = gl::Framebuffer();
   selection_ = gl::Texture();
+  depth_.resize(width, height, levels);
   for (int k = 0; k < levels; ++k) {
     exitance_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
-    framebuffers_.push_back(gl::makeFramebuffer({exitance_.back().id()}, 0));
+    framebuffers_.push_back(gl::makeFramebuffer({exitance_.back().id()}, depth_.texture(k)));
     if (debug_)
       levelCopies_.push_back(gl::makeTexture2D(GL_RGBA32F, std::max(width >> k, 1), std::max(height >> k, 1)));
   }
@@ -51,6 +52,7 @@ void Splatting::clear() {
     glBindFramebuffer(GL_FRAMEBUFFER, f.id());
     glClearBufferfv(GL_COLOR, 0, zero);
   }
+  depth_.clear();
   if (selectionFramebuffer_) {
     glBindFramebuffer(GL_FRAMEBUFFER, selectionFramebuffer_.id());
     glClearBufferfv(GL_COLOR, 0, zero);
@@ -72,10 +74,12 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
+  SplatDepth::beginTest();  // pixels whose surface lies beyond a splat's reach (prepareDepth)
   GLuint p = program_.id();
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
+  glUniform1f(uniform(p, "depthFar"), depth_.far());
   samples_.bind();
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));
@@ -173,6 +177,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
     else break;
   }
   glDisable(GL_BLEND);
+  SplatDepth::endTest();
   if (debug_) {  // the selection pass: the view's selected samples, drawn as points
     profiler.begin(SS_STAGE_SPLATTING);
     GLuint d = selectionProgram_.id();

@@ -8,6 +8,7 @@
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
 #include "pipeline/sample_selection.h"
+#include "pipeline/splat_depth.h"
 #include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
 
@@ -50,6 +51,9 @@ class Splatting {
   // levels > 1: multiresolution splatting into that many exitance levels.
   void resize(int width, int height, int levels = 1);
   void clear();  // the exitance levels and the selection counters
+  // Each level's depth from the splatting buffer (SplatDepth), after clear() and before the first
+  // splat(): splats then skip the pixels whose surface lies beyond their reach.
+  void prepareDepth(const Scene& scene, const SplattingBuffer& splatting) { depth_.prepare(scene, splatting); }
   // Adds the selected lit translucent samples of `irradiance` to the exitance
   // buffers (each level its range of distances), each level in its own
   // profiler span, and counts the samples selected per irradiance level.
@@ -87,6 +91,7 @@ class Splatting {
   gl::Program program_, accumulateProgram_;
   gl::VertexArray empty_;
   std::vector<gl::Texture> exitance_;
+  SplatDepth depth_;  // attached to framebuffers_
   std::vector<gl::Framebuffer> framebuffers_;
   // accumulate(keepLevels): the levels' copies the accumulation wrote, and whether exitance() is theirs.
   std::vector<gl::Texture> gatheredLevels_;

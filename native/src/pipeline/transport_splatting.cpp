@@ -94,15 +94,17 @@ void TransportSplatting::resize(int width, int height, int levels) {
   factorsFramebuffer_ = gl::Framebuffer();
   factors_ = gl::Texture();
   bytes_ = 0;
+  depth_.resize(width, height, levels);
   for (int k = 0; k < levels; ++k) {
     int w = std::max(width >> k, 1), h = std::max(height >> k, 1);
     std::array<gl::Texture, kGroups> textures;
     std::array<gl::Framebuffer, kGroups> framebuffers;
     for (int g = 0; g < kGroups; ++g) {
       textures[size_t(g)] = gl::makeTexture2DArray(GL_RGBA32F, w, h, kLayers);
-      framebuffers[size_t(g)] = gl::makeLayeredFramebuffer(textures[size_t(g)].id(), kLayers);
+      framebuffers[size_t(g)] = gl::makeLayeredFramebuffer(textures[size_t(g)].id(), kLayers, depth_.texture(k));
       bytes_ += uint64_t(w) * uint64_t(h) * kLayers * 16u;
     }
+    bytes_ += uint64_t(w) * uint64_t(h) * 4u;  // depth_
     levels_.push_back(std::move(textures));
     framebuffers_.push_back(std::move(framebuffers));
   }
@@ -122,6 +124,7 @@ void TransportSplatting::clear() {
       glBindFramebuffer(GL_FRAMEBUFFER, f.id());
       for (int l = 0; l < kLayers; ++l) glClearBufferfv(GL_COLOR, l, zero);
     }
+  depth_.clear();
   counts_.clear();
 }
 
@@ -164,6 +167,8 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   bindTexture(gl::UNIT_SPLAT_KERNELS, GL_TEXTURE_2D_ARRAY, kernels.kernels);
   bindTexture(gl::UNIT_BASIS_KERNELS, GL_TEXTURE_2D_ARRAY, basisKernels_.id());
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
+  glUniform1f(uniform(p, "depthFar"), depth_.far());
+  SplatDepth::beginTest();  // pixels whose surface lies beyond a quad's reach (prepareDepth)
   glBindVertexArray(empty_.id());
   for (int k = 0; k < splatLevels; ++k) {
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
@@ -180,6 +185,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   }
   glBindVertexArray(0);
   glDisable(GL_BLEND);
+  SplatDepth::endTest();
   gl::checkErrors("transport splatting");
 }
 

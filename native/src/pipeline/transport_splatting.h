@@ -20,6 +20,7 @@
 #include "pipeline/irradiance_buffer.h"
 #include "pipeline/material_tables.h"
 #include "pipeline/sample_selection.h"
+#include "pipeline/splat_depth.h"
 #include "pipeline/splatting_buffer.h"
 #include "pipeline/stage_profiler.h"
 
@@ -47,6 +48,8 @@ class TransportSplatting {
   // levels: splatting levels (FULL's).
   void resize(int width, int height, int levels);
   void clear();
+  // Each level's depth from the splatting buffer (SplatDepth), after clear() and before splat().
+  void prepareDepth(const Scene& scene, const SplattingBuffer& splatting) { depth_.prepare(scene, splatting); }
   // Adds the selected samples of one light view to every level (each its range of distances).
   void splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
              const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
@@ -85,6 +88,7 @@ class TransportSplatting {
   gl::Buffer coefficients_;
   SelectionCounts counts_;
   SampleList samples_;
+  SplatDepth depth_;  // attached to framebuffers_
   size_t coefficientCapacity_ = 0;
   uint64_t bytes_ = 0;
   void uploadBasis();
