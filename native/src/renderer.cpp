@@ -253,8 +253,9 @@ void Renderer::render(int width, int height, float* rgba) {
     splatting_.render(scene_, gpuScene_);
     splatting_.buildHierarchy(scene_.camera());
     splats_.clear();
-    splats_.prepareDepth(scene_, splatting_);
-    if (editing && !reuse) transport_.prepareDepth(scene_, splatting_);
+    // The splats' depth test (pipeline/splat_depth.h), for the renders that splat.
+    if (!relit && !editing && !translucent.empty()) splats_.prepareDepth(scene_, splatting_);
+    if (editing && !reuse && !translucent.empty()) transport_.prepareDepth(scene_, splatting_);
     profiler.end();
     resume = Resume{};
   }
