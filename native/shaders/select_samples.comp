@@ -20,11 +20,11 @@
 // The list is in the samples' order whatever order the invocations run in, so splats blend in the
 // same order on every run and every driver (docs/ANIMATION.md, "Determinism across processes").
 // Chunks, not a sample an invocation: a workgroup's scan costs barriers, which llvmpipe runs by
-// switching between its invocations; with 16 samples an invocation a workgroup of 64 scans 1024
-// samples in 2 barriers (256 samples took 17 before: docs/BENCHMARKS.md, "Selection once per light
-// view").
+// switching between its invocations; with 16 samples an invocation a workgroup of 64 lists 1024
+// samples in 3 barriers (256 samples took 17 before: docs/BENCHMARKS.md, "The list in chunks").
 layout(local_size_x = 64) in;
-const int kChunk = 16;  // samples an invocation: SampleList::kGroupSamples = 64 x 16 a workgroup
+const int kInvocations = 64;  // local_size_x: SampleList::kGroupInvocations
+const int kChunk = 16;        // samples an invocation: SampleList::kChunk
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
 layout(binding = UNIT_IRRADIANCE_DEPTH_RANGE) uniform sampler2D irradianceDepthRange;  // levels >= 1
@@ -44,7 +44,7 @@ layout(std430, binding = STORAGE_SAMPLE_LIST) buffer SampleList {
   uint command[4];  // glDrawArraysIndirect's: count, instances, first, base instance
   uint samples[];
 };
-shared uint scan[64];
+shared uint scan[kInvocations];
 shared uint scanTotal;
 shared uint groupSelected[8];
 
@@ -87,7 +87,7 @@ uint scanWorkgroup() {
   barrier();
   if (gl_LocalInvocationID.x == 0u) {
     uint sum = 0u;
-    for (int j = 0; j < 64; ++j) {
+    for (int j = 0; j < kInvocations; ++j) {
       uint v = scan[j];
       scan[j] = sum;
       sum += v;
@@ -127,8 +127,8 @@ void main() {
     if (lane == 0u) blocks[gl_WorkGroupID.x] = sum;
     if (countSelection != 0 && lane < 8u && groupSelected[lane] > 0u) atomicAdd(selected[lane], groupSelected[lane]);
   } else if (pass == 1) {
-    uint count = uint((total + 64 * kChunk - 1) / (64 * kChunk)), carry = 0u;  // pass 0's workgroups
-    for (uint base = 0u; base < count; base += 64u) {
+    uint count = uint((total + kInvocations * kChunk - 1) / (kInvocations * kChunk)), carry = 0u;  // pass 0's workgroups
+    for (uint base = 0u; base < count; base += uint(kInvocations)) {
       uint b = base + lane;
       uint v = b < count ? blocks[b] : 0u;
       scan[lane] = v;

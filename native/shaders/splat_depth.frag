@@ -1,4 +1,4 @@
-// Each splatting level's depth (Splatting::prepareDepth): the view depth of the pixel's surface
+// Each splatting level's depth (SplatDepth::prepare, pipeline/splat_depth.h): the view depth of the pixel's surface
 // point over depthFar, 1 where no surface is. splat.geom puts each splat's quad at the far side of
 // the sphere it bounds, and the depth test (GL_GEQUAL) skips the pixels whose surface lies beyond
 // it: every one of them is farther from the sample than the splat reaches, so splat.frag would

@@ -72,7 +72,7 @@ void SampleList::build(const Scene& scene, const LightView& view, const Irradian
     capacity_ = std::max<size_t>(texels, 1);
     size_t blocks = (capacity_ + kGroupSamples - 1) / kGroupSamples;
     list_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, (4 + capacity_) * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
-    ranks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * 64 * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
+    ranks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * kGroupInvocations * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
     blocks_ = gl::makeBuffer(GL_SHADER_STORAGE_BUFFER, blocks * sizeof(GLuint), nullptr, GL_DYNAMIC_DRAW);
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SAMPLE_LIST, list_.id());

@@ -55,7 +55,8 @@ class SampleList {
   void draw() const;
   // The number of samples listed (a read-back: for drawing ranges of the list).
   GLint count() const;
-  static constexpr size_t kGroupSamples = 1024;  // select_samples.comp: 64 invocations of 16 samples
+  // select_samples.comp's workgroup: invocations, samples an invocation, samples a workgroup.
+  static constexpr size_t kGroupInvocations = 64, kChunk = 16, kGroupSamples = kGroupInvocations * kChunk;
 
  private:
   gl::Program program_;
