@@ -28,11 +28,20 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
+inline float dipoleReflectanceSingle(float r2, float zr, float zv, float sigmaTr, float scale) {
+  float dr2 = r2 + zr * zr, dv2 = r2 + zv * zv;
+  float dr = std::sqrt(dr2), dv = std::sqrt(dv2), ir = 1.0f / dr, iv = 1.0f / dv;
+  float real = zr * (sigmaTr + ir) * std::exp(-sigmaTr * dr) * (ir * ir);
+  float virt = zv * (sigmaTr + iv) * std::exp(-sigmaTr * dv) * (iv * iv);
+  return scale * (real + virt);
+}
+
 // One material entry's profile in scene units (R_d in 1 / unit^2): a dipole
 // or a SubEdit palette entry; and its surface terms.
 struct Profile {
   bool translucent = false;
   double scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
+  float scalef[3]{}, zrf[3]{}, zvf[3]{}, sigmaTrf[3]{};
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
   std::vector<std::shared_ptr<const RadialProfile>> tabulated;  // TABULATED: per channel, in mm
   const TransportTables* transport = nullptr;                    // TABULATED
@@ -81,6 +90,7 @@ struct Profile {
       sigmaTr[c] = dipole.effectiveExtinction() * unit;
       support = std::max(support, dipole.radiusForEnergy(ReferenceRenderer::kSupportEnergy) / unit);
       minZr = std::min(minZr, zr[c]);
+      zrf[c] = float(zr[c]), zvf[c] = float(zv[c]), sigmaTrf[c] = float(sigmaTr[c]), scalef[c] = float(scale[c]);
     }
   }
 
@@ -111,7 +121,7 @@ struct Profile {
       for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->value(r) * perUnit2;
       return;
     }
-    for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(r2, zr[c], zv[c], sigmaTr[c], scale[c]);
+    for (int c = 0; c < 3; ++c) out[c] = dipoleReflectanceSingle(float(r2), zrf[c], zvf[c], sigmaTrf[c], scalef[c]);
   }
 };
 
@@ -121,6 +131,8 @@ struct ProfilePair {
   const Profile* out;
   double finestCell;
 
+  // Whether evaluate reads the cell's area (a TABULATED profile's peak), so others skip computing it.
+  bool readsArea() const { return !in->tabulated.empty() || !out->tabulated.empty(); }
   void evaluate(double r2, double k[3], double area = 0.0) const {
     in->evaluate(r2, k, area);
     if (in == out) return;
@@ -219,7 +231,7 @@ void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&
   }
   if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
   double k[3];
-  pair.evaluate(r2, k, 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
+  pair.evaluate(r2, k, pair.readsArea() ? 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) : 0.0);
   ++evaluations;
   glm::dvec3 kernel(k[0], k[1], k[2]);
   sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
@@ -259,7 +271,7 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
             continue;
           }
           double k[3];
-          pair.evaluate(r2, k, 0.5 * double(glm::length(glm::cross(s.corners[1] - s.corners[0], s.corners[2] - s.corners[0]))));
+          pair.evaluate(r2, k, pair.readsArea() ? 0.5 * double(glm::length(glm::cross(s.corners[1] - s.corners[0], s.corners[2] - s.corners[0]))) : 0.0);
           ++evaluations;
           glm::dvec3 kernel(k[0], k[1], k[2]);
           sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
