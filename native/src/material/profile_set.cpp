@@ -26,23 +26,31 @@ SegmentedProfile::SegmentedProfile(const float* logKnots, int segments, double r
       radiusMm_(radiusMm) {
   for (int k = 0; k <= segments; ++k) knots_[size_t(k)] = logKnots[size_t(k) * size_t(stride)];
   double h = radiusMm / segments;
+  slope_.resize(size_t(segments));
+  scale_.resize(size_t(segments));
+  for (int k = 0; k < segments; ++k) {
+    double y0 = knots_[size_t(k)];
+    slope_[size_t(k)] = (knots_[size_t(k) + 1] - y0) / h;
+    scale_[size_t(k)] = 2.0 * M_PI * std::exp(y0);
+  }
   for (int k = 0; k < segments; ++k) cumulative_[size_t(k) + 1] = cumulative_[size_t(k)] + segmentEnergy(k, h);
 }
 
 double SegmentedProfile::segmentEnergy(int k, double length) const {
   // The integral of e^(y0 + beta u) 2 pi (a + u) du over u in [0, length].
   double h = radiusMm_ / segments_, a = k * h;
-  double y0 = knots_[size_t(k)], beta = (knots_[size_t(k) + 1] - y0) / h;
+  double beta = slope_[size_t(k)];
   double x = beta * length, i0, i1;  // integrals of e^(beta u) and u e^(beta u)
   if (std::abs(x) < 1e-4) {
     i0 = length * (1.0 + x / 2.0 + x * x / 6.0);
     i1 = length * length * (0.5 + x / 3.0 + x * x / 8.0);
   } else {
     double ex = std::exp(x);  // one exponential for both (e^x - 1 loses 1e-12 of itself at x = 1e-4)
-    i0 = length * (ex - 1.0) / x;
-    i1 = length * length * (ex * (x - 1.0) + 1.0) / (x * x);
+    double q = length / x;    // and one division
+    i0 = q * (ex - 1.0);
+    i1 = q * q * (ex * (x - 1.0) + 1.0);
   }
-  return 2.0 * M_PI * std::exp(y0) * (a * i0 + i1);
+  return scale_[size_t(k)] * (a * i0 + i1);
 }
 
 double SegmentedProfile::value(double r) const {

@@ -45,6 +45,9 @@ class SegmentedProfile final : public RadialProfile {
  private:
   std::vector<double> knots_;       // ln P
   std::vector<double> cumulative_;  // energy within r_k
+  // Per segment, ln P's slope and 2 pi P(r_k): segmentEnergy's terms that do not depend on the
+  // length (the kernel tables call it millions of times; the values are the ones it computed).
+  std::vector<double> slope_, scale_;
   int segments_;
   double radiusMm_;
   double segmentEnergy(int k, double length) const;  // energy in [r_k, r_k + length]

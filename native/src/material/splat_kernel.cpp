@@ -84,7 +84,8 @@ const std::vector<float>& SplatKernel::table() const {
         for (int id = 0; id < kSizeD; ++id) {
           double d = tableDistance(id, sigma, supportRadius_);
           float* texel = &table[(size_t(ia) * kSizeD + id) * 4];
-          for (int c = 0; c < 3; ++c) texel[c] = float(footprintAverage(c, d, sigma));
+          std::array<double, 3> average = footprintAverages(d, sigma);
+          for (int c = 0; c < 3; ++c) texel[c] = float(average[size_t(c)]);
         }
       }
     };
@@ -179,17 +180,19 @@ double SplatKernel::energyWithin(int c, double r) const {
 
 namespace {
 
-// e^{-x} I_0(x), the exponentially scaled modified Bessel function
-// (Abramowitz & Stegun 9.8.1 and 9.8.2, |error| < 2e-7 relative).
-double besselI0Scaled(double x) {
+// e^{-g} e^{-x} I_0(x) for g >= 0: a Gaussian factor times the exponentially scaled modified Bessel
+// function (Abramowitz & Stegun 9.8.1 and 9.8.2, |error| < 2e-7 relative), with one exponential
+// for both factors where the series needs its own.
+double gaussianTimesBesselI0Scaled(double g, double x) {
   if (x < 3.75) {
     double t = (x / 3.75) * (x / 3.75);
     double i0 = 1.0 + t * (3.5156229 + t * (3.0899424 + t * (1.2067492 + t * (0.2659732 +
                 t * (0.0360768 + t * 0.0045813)))));
-    return i0 * std::exp(-x);
+    return i0 * std::exp(-(g + x));
   }
   double t = 3.75 / x;
-  return (0.39894228 + t * (0.01328592 + t * (0.00225319 + t * (-0.00157565 + t * (0.00916281 +
+  return std::exp(-g) *
+         (0.39894228 + t * (0.01328592 + t * (0.00225319 + t * (-0.00157565 + t * (0.00916281 +
           t * (-0.02057706 + t * (0.02635537 + t * (-0.01647633 + t * 0.00392377)))))))) /
          std::sqrt(x);
 }
@@ -197,25 +200,34 @@ double besselI0Scaled(double x) {
 }  // namespace
 
 double SplatKernel::footprintAverage(int c, double d, double sigma) const {
+  return footprintAverages(d, sigma)[size_t(c)];
+}
+
+std::array<double, 3> SplatKernel::footprintAverages(double d, double sigma) const {
   // The mean of a 2D Gaussian centred at distance d over a circle of radius r
   // is exp(-(d^2 + r^2) / 2 sigma^2) I_0(d r / sigma^2) / (2 pi sigma^2).
   // Integrate it against the radial energy dE(r) (a Stieltjes sum, so the
   // profile's peak near r = 0 is never missed, however small z_r is).
+  std::array<double, 3> sum{0.0, 0.0, 0.0};
   double reach = kFootprintReach * sigma;
   double lo = std::max(0.0, d - reach), hi = std::min(d + reach, supportRadius_);
-  if (hi <= lo) return 0.0;
+  if (hi <= lo) return sum;
   constexpr int kSteps = 64;
-  double step = (hi - lo) / kSteps, sum = 0.0;
-  double e0 = energyWithin(c, lo);
+  double step = (hi - lo) / kSteps;
+  double e0[3];
+  for (int c = 0; c < 3; ++c) e0[c] = energyWithin(c, lo);
   for (int j = 0; j < kSteps; ++j) {
     double r = lo + (j + 0.5) * step;
-    double e1 = energyWithin(c, lo + (j + 1) * step);
     double x = d * r / (sigma * sigma);
-    double weight = std::exp(-(d - r) * (d - r) / (2 * sigma * sigma)) * besselI0Scaled(x);
-    sum += weight * (e1 - e0);
-    e0 = e1;
+    double weight = gaussianTimesBesselI0Scaled((d - r) * (d - r) / (2 * sigma * sigma), x);
+    for (int c = 0; c < 3; ++c) {
+      double e1 = energyWithin(c, lo + (j + 1) * step);
+      sum[size_t(c)] += weight * (e1 - e0[c]);
+      e0[c] = e1;
+    }
   }
-  return sum / (2.0 * M_PI * sigma * sigma);
+  for (double& s : sum) s /= 2.0 * M_PI * sigma * sigma;
+  return sum;
 }
 
 }  // namespace subsplat

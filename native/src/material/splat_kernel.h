@@ -78,6 +78,8 @@ class SplatKernel {
   // Kernel of a footprint of standard deviation sigma at distance d
   // (1 / scene unit^2), channel c, by quadrature.
   double footprintAverage(int c, double d, double sigma) const;
+  // The three channels' at once (the table's): the footprint's weights are the channels' own.
+  std::array<double, 3> footprintAverages(double d, double sigma) const;
   // Energy of channel c within radius r (scene units), renormalised.
   double energyWithin(int c, double r) const;
 
