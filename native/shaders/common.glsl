@@ -416,25 +416,43 @@ float softVisibilityAt(sampler2D map, int mapResolution, int resolution, vec3 p,
   return softVisibility(map, mapResolution, resolution, c.xy / c.w, lightDepthOf(offset), texel, slope, p,
                         ignoredObject);
 }
-// The screen rectangle (NDC, clipped) bounding a sphere of `radius` around view-space point c: the
-// projections of its view-space box's corners (the whole screen where a corner is behind the
-// camera). False where nothing of it is on screen. The splats' quads (splat.geom,
-// transport_splat.geom).
-bool splatQuad(vec3 c, float radius, mat4 worldToView, mat4 viewToClip, out vec2 lo, out vec2 hi) {
-  lo = vec2(1e30);
-  hi = vec2(-1e30);
-  bool behind = false;
-  for (int i = 0; i < 8; ++i) {
-    vec3 corner = c + radius * vec3((i & 1) != 0 ? 1.0 : -1.0, (i & 2) != 0 ? 1.0 : -1.0,
-                                    (i & 4) != 0 ? 1.0 : -1.0);
-    vec4 clip = viewToClip * vec4(corner, 1.0);
-    if (clip.w <= 1e-6) { behind = true; break; }
-    lo = min(lo, clip.xy / clip.w);
-    hi = max(hi, clip.xy / clip.w);
-  }
-  if (behind) { lo = vec2(-1.0); hi = vec2(1.0); }
-  lo = max(lo, vec2(-1.0));
-  hi = min(hi, vec2(1.0));
+// The interval of dot(dir, ndc) over the screen image of the sphere of `radius` around view-space
+// point c: the two planes through the eye tangent to the sphere whose screen lines are normal to dir
+// (a dir . ndc = h line is the plane (A - h W) . (p, 1) = 0, A = dir's rows of viewToClip, W its w row;
+// tangent where (alpha - h beta)^2 = r^2 |A - h W|^2, alpha and beta the centre's A and W values),
+// the discriminant written without cancellation. False where part of the sphere is at or behind
+// the eye's plane (perspective), where no such line bounds it.
+bool sphereScreenInterval(vec3 c, float radius, mat4 viewToClip, vec2 dir, out vec2 interval) {
+  vec4 a = dir.x * vec4(viewToClip[0][0], viewToClip[1][0], viewToClip[2][0], viewToClip[3][0]) +
+           dir.y * vec4(viewToClip[0][1], viewToClip[1][1], viewToClip[2][1], viewToClip[3][1]);
+  vec4 w = vec4(viewToClip[0][3], viewToClip[1][3], viewToClip[2][3], viewToClip[3][3]);
+  float alpha = dot(a, vec4(c, 1.0)), beta = dot(w, vec4(c, 1.0));
+  float r2 = radius * radius;
+  float qa = beta * beta - r2 * dot(w.xyz, w.xyz);
+  if (beta - radius * length(w.xyz) <= 1e-6 * max(beta, 1e-6) || qa <= 0.0) return false;
+  vec3 across = cross(a.xyz, w.xyz);
+  float root = radius * sqrt(max(dot(beta * a.xyz - alpha * w.xyz, beta * a.xyz - alpha * w.xyz) -
+                                 r2 * dot(across, across), 0.0));
+  float qb = alpha * beta - r2 * dot(a.xyz, w.xyz);
+  interval = vec2(qb - root, qb + root) / qa;
+  return true;
+}
+// The screen rectangle (NDC, clipped) bounding the sphere of `radius` around view-space point c:
+// its silhouette's extent in x and in y (sphereScreenInterval; the whole screen where part of the
+// sphere is at or behind the eye's plane), widened by `margin` (NDC) on each side. False where
+// nothing of it is on screen. The splats' quads (splat.geom, transport_splat.geom), whose margin is
+// half a pixel of a coarse splatting level: a coarse pixel holds one of its fine pixels' surface
+// points (splatting_reduce.comp), up to half a pixel from its centre. Until stop 45 the rectangle
+// bounded the projections of the sphere's view-space box's corners, which under perspective reach
+// beyond the silhouette: docs/SPLATTING.md, "Quads that fit the sphere".
+bool splatQuad(vec3 c, float radius, mat4 viewToClip, vec2 margin, out vec2 lo, out vec2 hi) {
+  float r = radius * 1.001;  // for the rounding of the lines against the rasteriser's
+  vec2 x, y;
+  if (!sphereScreenInterval(c, r, viewToClip, vec2(1.0, 0.0), x) ||
+      !sphereScreenInterval(c, r, viewToClip, vec2(0.0, 1.0), y))
+    x = y = vec2(-1.0, 1.0);
+  lo = max(vec2(x.x, y.x) - margin, vec2(-1.0));
+  hi = min(vec2(x.y, y.y) + margin, vec2(1.0));
   return !any(greaterThanEqual(lo, hi));
 }
 // The depth (over depthFar, splat_depth.frag's) of the far side of the sphere of radius `radius`

@@ -37,7 +37,7 @@ uniform float kernelLayers;
 // GPUs 2 x 2 quads, helpers included), and only those the diagonal crosses (at most W/4 + H/4 - 1)
 // by both: W H + 4 (W + H) - 16.
 uniform int measureBounds;
-uniform vec2 viewportSize;        // pixels of the level drawn
+uniform vec2 viewportSize;        // pixels of the level drawn (splatQuad's margin, the bounds)
 layout(std430, binding = STORAGE_SPLAT_BOUNDS) buffer SplatBounds { uint bounds[]; };
 flat out vec2 splatRange;         // [R_min, R_max) of this level
 flat out float splatKernelRow; // the footprint's row of the kernel table, in [0, 1]
@@ -70,7 +70,7 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     if (range.x >= range.y) return;
   }
   vec2 lo, hi;
-  if (!splatQuad(c, range.y, worldToView, viewToClip, lo, hi)) return;
+  if (!splatQuad(c, range.y, viewToClip, splatLevel > 0 ? 1.0 / viewportSize : vec2(0.0), lo, hi)) return;
   if (measureBounds != 0) {
     vec2 first = floor((lo * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;
     vec2 last = ceil((hi * 0.5 + 0.5) * viewportSize * 0.25) * 4.0;

@@ -30,6 +30,7 @@ uniform int knotCount;
 uniform float knots[24];       // the basis's knots, R_P units
 uniform float knotPixels;
 uniform float supportGrowth;   // the far group reaches this many times the material's support
+uniform vec2 viewportSize;     // pixels of the level drawn
 flat out vec2 splatRange;      // [R_min, R_max) of this level and group, scene units
 flat out vec3 splatPosition;
 flat out vec3 splatFlux;
@@ -73,7 +74,7 @@ void main() {
     if (range.x >= range.y) return;
   }
   vec2 lo, hi;
-  if (!splatQuad(c, range.y, worldToView, viewToClip, lo, hi)) return;
+  if (!splatQuad(c, range.y, viewToClip, splatLevel > 0 ? 1.0 / viewportSize : vec2(0.0), lo, hi)) return;
   float far = splatFarDepth(c, range.y, depthFar);
   for (int i = 0; i < 4; ++i) {
     splatRange = range;

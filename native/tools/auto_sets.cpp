@@ -15,6 +15,7 @@
 //
 //   subsplat_auto_sets [--set calibration|test] [--first N] [--count N] [--size WxH]
 //                      [--target E] [--rungs] [--reference N] [--list] [--json FILE] [--images DIR]
+//                      [--save DIR]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +50,8 @@ constexpr double kEnergies[] = {0.25, 0.5, 0.75, 0.95};
                "  --reference N           also REFERENCE with N surface samples: AUTO's error over the reference\n"
                "                          resolution's, both against it (the issue's measure)\n"
                "  --list                  print the scenes' descriptions only\n"
+               "  --save DIR              write each scene as DIR/<set>_<index>.ssscene for subsplat_replay, and\n"
+               "                          render nothing\n"
                "  --json FILE             write every figure as JSON\n"
                "  --images DIR            write each scene's image at AUTO's resolution (--rungs: at each rung), the\n"
                "                          reference's and their difference (PNG)\n");
@@ -69,7 +72,7 @@ int main(int argc, char** argv) {
   float target = 0.01f;
   bool rungs = false, list = false;
   uint32_t referenceSamples = 0;
-  std::string json, images;
+  std::string json, images, save;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -93,6 +96,7 @@ int main(int argc, char** argv) {
     else if (a == "--reference") referenceSamples = uint32_t(std::strtoul(value().c_str(), nullptr, 10));
     else if (a == "--json") json = value();
     else if (a == "--images") images = value();
+    else if (a == "--save") save = value();
     else if (a == "--help" || a == "-h") usage("");
     else usage("unknown option " + a);
   }
@@ -119,6 +123,11 @@ int main(int argc, char** argv) {
     subsplat::testing::ProceduralScene scene = subsplat::testing::proceduralScene(set, index, width, height);
     if (!check(scene.apply(context), scene.description.c_str())) return 1;
     std::printf("%3d  %s\n", index, scene.description.c_str());
+    if (!save.empty()) {
+      std::string path = save + "/" + subsplat::testing::setName(set) + "_" + std::to_string(index) + ".ssscene";
+      if (!check(ssSaveScene(context, path.c_str()), path.c_str())) return 1;
+      continue;
+    }
     out << (index > first ? ", " : "") << "{\"index\": " << index << ", \"seed\": " << scene.seed << ", \"description\": \""
         << scene.description << "\", \"radius\": " << scene.radius
         << ", \"pixel\": " << scene.pixel << ", \"radii\": [";

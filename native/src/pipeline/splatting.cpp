@@ -104,6 +104,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)].id());
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
     glUniform1i(uniform(p, "splatLevel"), k);
+    glUniform2f(uniform(p, "viewportSize"), float(std::max(width_ >> k, 1)), float(std::max(height_ >> k, 1)));
     if (!budget) {
       profiler.begin(SS_STAGE_SPLATTING, k);
       samples_.draw();
@@ -130,7 +131,6 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
       glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, bytes, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, gl::STORAGE_SPLAT_BOUNDS, bounds_.id());
       glUniform1i(uniform(p, "measureBounds"), 1);
-      glUniform2f(uniform(p, "viewportSize"), float(std::max(width_ >> k, 1)), float(std::max(height_ >> k, 1)));
       glEnable(GL_RASTERIZER_DISCARD);
       glDrawArrays(GL_POINTS, first, n);
       glDisable(GL_RASTERIZER_DISCARD);

@@ -173,6 +173,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   for (int k = 0; k < splatLevels; ++k) {
     glViewport(0, 0, std::max(width_ >> k, 1), std::max(height_ >> k, 1));
     glUniform1i(uniform(p, "splatLevel"), k);
+    glUniform2f(uniform(p, "viewportSize"), float(std::max(width_ >> k, 1)), float(std::max(height_ >> k, 1)));
     profiler.begin(SS_STAGE_SPLATTING, k);
     for (int g = 0; g < kGroups; ++g) {
       glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[size_t(k)][size_t(g)].id());
