@@ -203,6 +203,11 @@ int main(int argc, char** argv) {
         << ", \"reference_added\": " << referenceAdded << "}";
   }
   out << "]";
+  if (!save.empty()) {  // nothing was rendered
+    std::printf("# %d scenes written to %s\n", count, save.c_str());
+    ssReleaseContext(context);
+    return 0;
+  }
   if (!rungs) {
     std::printf("# %d of %d scenes over the target where the library said it could be met; %d said unreachable\n", missed, count,
                 unreachable);
