@@ -13,11 +13,13 @@ namespace subsplat {
 // height zv, effective extinction sigmaTr, scale = reduced albedo / (4 pi).
 // Lengths in any one unit; R_d in 1 / unit^2. Dipole and REFERENCE both
 // evaluate it here.
-inline double dipoleReflectance(double r2, double zr, double zv, double sigmaTr, double scale) {
-  double dr2 = r2 + zr * zr, dv2 = r2 + zv * zv;
-  double dr = std::sqrt(dr2), dv = std::sqrt(dv2);
-  double real = zr * (sigmaTr + 1.0 / dr) * std::exp(-sigmaTr * dr) / dr2;
-  double virt = zv * (sigmaTr + 1.0 / dv) * std::exp(-sigmaTr * dv) / dv2;
+// In double, or in float where REFERENCE sums millions of them (docs/REFERENCE.md, "Arithmetic").
+template <typename T>
+inline T dipoleReflectance(T r2, T zr, T zv, T sigmaTr, T scale) {
+  T dr2 = r2 + zr * zr, dv2 = r2 + zv * zv;
+  T dr = std::sqrt(dr2), dv = std::sqrt(dv2);
+  T real = zr * (sigmaTr + T(1) / dr) * std::exp(-sigmaTr * dr) / dr2;
+  T virt = zv * (sigmaTr + T(1) / dv) * std::exp(-sigmaTr * dv) / dv2;
   return scale * (real + virt);
 }
 

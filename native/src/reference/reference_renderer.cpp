@@ -28,20 +28,11 @@ double msSince(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
 
-inline float dipoleReflectanceSingle(float r2, float zr, float zv, float sigmaTr, float scale) {
-  float dr2 = r2 + zr * zr, dv2 = r2 + zv * zv;
-  float dr = std::sqrt(dr2), dv = std::sqrt(dv2), ir = 1.0f / dr, iv = 1.0f / dv;
-  float real = zr * (sigmaTr + ir) * std::exp(-sigmaTr * dr) * (ir * ir);
-  float virt = zv * (sigmaTr + iv) * std::exp(-sigmaTr * dv) * (iv * iv);
-  return scale * (real + virt);
-}
-
 // One material entry's profile in scene units (R_d in 1 / unit^2): a dipole
 // or a SubEdit palette entry; and its surface terms.
 struct Profile {
   bool translucent = false;
-  double scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};
-  float scalef[3]{}, zrf[3]{}, zvf[3]{}, sigmaTrf[3]{};
+  float scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};  // the dipole's, in float (docs/REFERENCE.md)
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
   std::vector<std::shared_ptr<const RadialProfile>> tabulated;  // TABULATED: per channel, in mm
   const TransportTables* transport = nullptr;                    // TABULATED
@@ -84,13 +75,12 @@ struct Profile {
     for (int c = 0; c < 3; ++c) {
       Dipole dipole({d.sigma_a[c], d.sigma_s_prime[c], d.eta});
       double unit = d.mm_per_unit;  // mm per scene unit
-      scale[c] = dipole.reducedAlbedo() / (4.0 * M_PI);
-      zr[c] = dipole.realSourceDepth() / unit;
-      zv[c] = dipole.virtualSourceHeight() / unit;
-      sigmaTr[c] = dipole.effectiveExtinction() * unit;
+      scale[c] = float(dipole.reducedAlbedo() / (4.0 * M_PI));
+      zr[c] = float(dipole.realSourceDepth() / unit);
+      zv[c] = float(dipole.virtualSourceHeight() / unit);
+      sigmaTr[c] = float(dipole.effectiveExtinction() * unit);
       support = std::max(support, dipole.radiusForEnergy(ReferenceRenderer::kSupportEnergy) / unit);
-      minZr = std::min(minZr, zr[c]);
-      zrf[c] = float(zr[c]), zvf[c] = float(zv[c]), sigmaTrf[c] = float(sigmaTr[c]), scalef[c] = float(scale[c]);
+      minZr = std::min(minZr, dipole.realSourceDepth() / unit);
     }
   }
 
@@ -121,7 +111,7 @@ struct Profile {
       for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->value(r) * perUnit2;
       return;
     }
-    for (int c = 0; c < 3; ++c) out[c] = dipoleReflectanceSingle(float(r2), zrf[c], zvf[c], sigmaTrf[c], scalef[c]);
+    for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(float(r2), zr[c], zv[c], sigmaTr[c], scale[c]);
   }
 };
 
