@@ -208,6 +208,9 @@ TabulatedProfile::TabulatedProfile(const DipoleChannel& c) {
     lnShape_.push_back(std::log(shape_[k]));
   }
   lnStep_ = knots > 2 ? (lnRho_.back() - lnRho_[1]) / double(knots - 2) : 1.0;
+  inverseLnStep_ = 1.0 / lnStep_;
+  lnSigmaT_ = std::log(sigmaT_);
+  lnScale_ = std::log(total_ * sigmaT_ * sigmaT_);  // -inf where nothing scatters: exp gives 0
   for (size_t k = 0; k + 1 < knots; ++k) segmentEnergy_.push_back(2.0 * M_PI * shape_[k] * rho_[k] * rho_[k]);
 }
 
@@ -234,20 +237,7 @@ double TabulatedProfile::shapeEnergyWithin(double rho) const {
   return cumulative_[k] + segmentEnergy_[k] * growth;
 }
 
-double TabulatedProfile::value(double r) const {
-  double rho = r * sigmaT_;
-  double s;
-  if (rho <= rho_[0]) {
-    s = shape_[0];
-  } else if (rho >= rho_.back()) {
-    s = 0.0;
-  } else {
-    double lnRho = std::log(rho);
-    size_t k = segmentOf(rho, lnRho);
-    s = std::exp(lnShape_[k] + power_[k] * (lnRho - lnRho_[k]));  // S_k (rho / rho_k)^p_k
-  }
-  return total_ * s * sigmaT_ * sigmaT_;
-}
+double TabulatedProfile::value(double r) const { return valueAtLog(r > 0.0 ? std::log(r) : -HUGE_VAL); }
 
 double TabulatedProfile::energyWithin(double r) const { return total_ * shapeEnergyWithin(r * sigmaT_); }
 

@@ -25,7 +25,9 @@
 // the truth (a delta light cannot reach a medium behind a smooth refracting boundary in the twin).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,6 +68,10 @@ class TabulatedProfile final : public RadialProfile {
   explicit TabulatedProfile(const DipoleChannel& channel);
 
   double value(double r) const override;
+  // value(r) from ln r (r in mm), with no logarithm of its own: the channels' knots lie at the same
+  // rho (the table's bins), so a caller evaluating three channels at one r takes one logarithm, not
+  // three (REFERENCE evaluates P some 10^8 times a frame). value(r) is valueAtLog(ln r).
+  double valueAtLog(double lnR) const;
   double energyWithin(double r) const override;
   double totalEnergy() const override { return total_; }
   double scaleHint() const override { return 1.0 / sigmaT_; }
@@ -79,10 +85,22 @@ class TabulatedProfile final : public RadialProfile {
   // of a radius is found from its logarithm (REFERENCE evaluates P some 10^8 times a frame).
   std::vector<double> lnRho_, lnShape_;
   std::vector<double> segmentEnergy_;  // 2 pi S_k rho_k^2
-  double lnStep_ = 1.0;
+  double lnStep_ = 1.0, inverseLnStep_ = 1.0;
+  double lnSigmaT_ = 0.0, lnScale_ = 0.0;  // ln sigma_T, ln (total sigma_T^2)
   size_t segmentOf(double rho, double lnRho) const;
   double shapeEnergyWithin(double rho) const;
 };
+
+inline double TabulatedProfile::valueAtLog(double lnR) const {
+  double lnRho = lnR + lnSigmaT_;
+  if (lnRho <= lnRho_[0]) return total_ * shape_[0] * sigmaT_ * sigmaT_;
+  if (lnRho >= lnRho_.back()) return 0.0;
+  // The segment from the bins' logarithmic step. Where rounding puts a radius at a knot into the
+  // neighbouring segment, that segment's power law meets this one at the knot (S is continuous):
+  // the value differs by the rounding.
+  size_t k = lnRho < lnRho_[1] ? 0 : std::min(size_t(1.0 + (lnRho - lnRho_[1]) * inverseLnStep_), lnRho_.size() - 2);
+  return std::exp(lnScale_ + lnShape_[k] + power_[k] * (lnRho - lnRho_[k]));  // total sigma_T^2 S_k (rho / rho_k)^p_k
+}
 
 // One translucent material's angular and thin-part tables, laid out as the GPU's texture layer
 // (pipeline/material_tables.cpp) and evaluated here exactly as the shaders evaluate them

@@ -34,10 +34,10 @@ struct Profile {
   bool translucent = false;
   float scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};  // the dipole's, in float (docs/REFERENCE.md)
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
-  std::vector<std::shared_ptr<const RadialProfile>> tabulated;  // TABULATED: per channel, in mm
+  std::vector<std::shared_ptr<const TabulatedProfile>> tabulated;  // TABULATED: per channel, in mm
   const TransportTables* transport = nullptr;                    // TABULATED
   bool holdout = false;
-  double mmPerUnit = 1.0;
+  double mmPerUnit = 1.0, lnMmPerUnit = 0.0;
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
   glm::vec3 baseColor{0.0f};
@@ -47,6 +47,7 @@ struct Profile {
       : translucent(isTranslucent(e.desc)), holdout(e.desc.kind == SS_MATERIAL_HOLDOUT), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
         roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)),
         world(unshadowedResponse(e)) {
+    lnMmPerUnit = std::log(mmPerUnit);
     const SsMaterialDesc& d = e.desc;
     if (d.kind == SS_MATERIAL_SUBEDIT) {
       const ProfileSet& set = *e.profiles;
@@ -63,7 +64,7 @@ struct Profile {
       transport = e.transport.get();
       for (int c = 0; c < 3; ++c) {
         DipoleChannel channel{d.sigma_a[c], d.sigma_s_prime[c], d.eta};
-        tabulated.push_back(makeMediumProfile(channel, kProfileTabulated));
+        tabulated.push_back(std::make_shared<TabulatedProfile>(channel));
         support = std::max(support, tabulated.back()->radiusForEnergy(ReferenceRenderer::kSupportEnergy) / mmPerUnit);
         // The once-scattered peak bends within a fraction of a mean free path: near x_o cells are
         // cut to kFinestCell of a twentieth of one (a plane then converges within 0.3 % of the
@@ -106,9 +107,9 @@ struct Profile {
       for (int c = 0; c < 3; ++c) out[c] = segmented[size_t(c)].value(r) * perUnit2;
       return;
     }
-    if (!tabulated.empty()) {
-      double r = std::sqrt(r2) * mmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
-      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->value(r) * perUnit2;
+    if (!tabulated.empty()) {  // one logarithm for the three channels (TabulatedProfile::valueAtLog)
+      double lnR = 0.5 * std::log(r2) + lnMmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
+      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->valueAtLog(lnR) * perUnit2;
       return;
     }
     for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(float(r2), zr[c], zv[c], sigmaTr[c], scale[c]);
@@ -200,28 +201,29 @@ struct ObjectSamples {
 // Flux of one cell, refined into four while it is large against its distance
 // to x_o (its irradiance stays the sample's; each part has its own profile).
 // sum: B(x_o) in rgb; alpha: the TABULATED model's exitance-weighted incidence cosine (fluxMu0).
+// diameter2 and area: the cell's longest edge squared and its area; a part's are a quarter of
+// its cell's (cut at the edges' midpoints, each part is the cell at half the size).
 void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&uv)[3], const glm::dvec3& flux,
-             const glm::dvec3& fluxMu0, ProfilePair pair, const CellProfiles& cell, int depth, glm::dvec4& sum,
-             uint64_t& evaluations) {
+             const glm::dvec3& fluxMu0, double diameter2, double area, ProfilePair pair, const CellProfiles& cell,
+             int depth, glm::dvec4& sum, uint64_t& evaluations) {
   glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
   glm::dvec3 offset = xo - centroid;
   double r2 = glm::dot(offset, offset);
-  double diameter = std::sqrt(std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
-                                        glm::dot(p[0] - p[2], p[0] - p[2])}));
-  double limit = ReferenceRenderer::kRefineRatio * std::sqrt(r2);
-  if (depth < ReferenceRenderer::kMaxDepth && diameter > limit && diameter > pair.finestCell) {
+  constexpr double kRatio2 = ReferenceRenderer::kRefineRatio * ReferenceRenderer::kRefineRatio;
+  if (depth < ReferenceRenderer::kMaxDepth && diameter2 > kRatio2 * r2 && diameter2 > pair.finestCell * pair.finestCell) {
     const glm::dvec3 pm[3] = {0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0])};
     const glm::dvec2 um[3] = {0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
     const glm::dvec3 quarter = 0.25 * flux, quarterMu0 = 0.25 * fluxMu0;
     const glm::dvec3 parts[4][3] = {{p[0], pm[0], pm[2]}, {pm[0], p[1], pm[1]}, {pm[2], pm[1], p[2]}, {pm[0], pm[1], pm[2]}};
     const glm::dvec2 partUvs[4][3] = {{uv[0], um[0], um[2]}, {um[0], uv[1], um[1]}, {um[2], um[1], uv[2]}, {um[0], um[1], um[2]}};
     for (int i = 0; i < 4; ++i)
-      addCell(xo, parts[i], partUvs[i], quarter, quarterMu0, pair, cell, depth + 1, sum, evaluations);
+      addCell(xo, parts[i], partUvs[i], quarter, quarterMu0, 0.25 * diameter2, 0.25 * area, pair, cell, depth + 1, sum,
+              evaluations);
     return;
   }
   if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
   double k[3];
-  pair.evaluate(r2, k, pair.readsArea() ? 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) : 0.0);
+  pair.evaluate(r2, k, area);
   ++evaluations;
   glm::dvec3 kernel(k[0], k[1], k[2]);
   sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
@@ -257,7 +259,11 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
             const glm::dvec3 corners[3] = {s.corners[0], s.corners[1], s.corners[2]};
             const glm::dvec2 uvs[3] = {s.uvs[0], s.uvs[1], s.uvs[2]};
             CellProfiles cell{&entries, &profiles, s.base, s.mapped};
-            addCell(x, corners, uvs, flux, fluxMu0, pair, cell, 0, sum, evaluations);
+            double diameter2 = std::max({glm::dot(corners[1] - corners[0], corners[1] - corners[0]),
+                                         glm::dot(corners[2] - corners[1], corners[2] - corners[1]),
+                                         glm::dot(corners[0] - corners[2], corners[0] - corners[2])});
+            double area = pair.readsArea() ? 0.5 * glm::length(glm::cross(corners[1] - corners[0], corners[2] - corners[0])) : 0.0;
+            addCell(x, corners, uvs, flux, fluxMu0, diameter2, area, pair, cell, 0, sum, evaluations);
             continue;
           }
           double k[3];
