@@ -31,7 +31,8 @@ def marble(mm_per_unit=50.0):
 class HardCases(unittest.TestCase):
     def check_no_holes(self, scene, name):
         scene.render.engine = "SUBSPLAT"
-        _, reference_b, _ = accuracy.render_passes(scene, "REFERENCE", 100000)
+        # REFERENCE only says which pixels are lit; 25 000 samples do (100 000 took 4x the time).
+        _, reference_b, _ = accuracy.render_passes(scene, "REFERENCE", 25000)
         lit = (reference_b[..., 3] > 0.5) & (reference_b[..., :3].max(axis=-1) > 1e-3 * reference_b[..., :3].max())
         self.assertGreater(int(lit.sum()), 100, f"{name}: the scene must have lit translucent pixels")
         for method in METHODS:
