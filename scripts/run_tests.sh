@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set-up, build, then every test but the slow tier (docs/CI.md), in two build folders:
-#   build/      the native tests (CTest labels unit, native-gl), the tests inside `blender -b`
+#   build/      the native tests (in shards, CTest label native-shard; each test is also a CTest test of its
+#               own, labels unit and native-gl), the tests inside `blender -b`
 #               (blender) and in Blender's UI under Xvfb (ui), and the per-version
 #               suite in the `bpy` module of Blender 4.2, 4.5 and 5.0 (bpy, docs/VERSIONS.md);
 #   build-san/  clang with AddressSanitizer and UndefinedBehaviorSanitizer (docs/RELIABILITY.md):
@@ -18,19 +19,18 @@ stage "set-up and build/ done"
 # the short native ones filling the gaps. A Blender test keeps 1.3 cores busy on average (start-up,
 # Python and the kernel tables are single-threaded), so two at once took 651 s where one at a time
 # took 926 s (docs/CI.md, 2026-12-03).
-(cd build && ctest -L '^(unit|native-gl|blender|ui|bpy)$' -j"$jobs" --output-on-failure)
+# The native tests run in the shards (label native-shard: a few processes, each running its share of
+# the tests; native/CMakeLists.txt), not a process per test (labels unit and native-gl, for ctest -R).
+# tests/unit's Python tests carry the label python.
+(cd build && ctest -L '^(native-shard|python|blender|ui|bpy)$' -j"$jobs" --output-on-failure)
 stage "build/ tests done"
 
-# Under the sanitizers, every native test but those that render one scene at many sizes or sample
-# counts, or evaluate one model over many parameters, to check numbers (11-35 s each under ASan),
-# and PRECOMPUTED's invalidation test (nine precomputations, 72-92 s under ASan; the precomputation
-# and its reuse run under ASan in Precomputed.ShadowsAreFullsUnderEveryLight and ReportsEachObject):
-# their code paths run under the sanitizers in the other tests, and build/ above runs them all
-# (docs/CI.md). LeakSanitizer's tracer crashed (signal 11) at some tests' exit after they had passed:
-# up to LLVM 16 its __tls_get_addr interceptor can misread a dynamic TLS block (the GL driver's) as
-# an old glibc's, depending on where malloc put it; intercept_tls_get_addr=0 turns that off, and the
-# tests run the leak check after their last test (native/src/testing/leak_check.cpp) (docs/CI.md).
-SANITIZED_SKIP='^(Multires\.AutomaticResolutionFollowsTheRangeAndTheTarget|Reference\.ConvergesAsSamplesIncrease|Heterogeneous\.SubEditOfADipoleRendersTheDipolesImage|Heterogeneous\.FullAgreesWithReferenceOnAChessboardSphere|Tabulated\.SlabUnderASunIsTheExactHalfSpaceRadiance|AntiAliasing\.EightSamplesAreCloserToTwoHundredFiftySixThanOne|Adaptive\.SelectionCoversEveryTexelExactlyOnce|TabulatedModel\.NormalIncidenceAlbedoIsTheHFunctions|TabulatedModel\.NoSlabSendsOutMoreLightThanCameIn|SplatKernel\.PlaneSumEqualsTotalReflectanceForAnyTexelSize|TranslucentFloorSoftShadow\.PointLightPenumbraMatchesReference|TranslucentFloorSoftShadow\.SunPenumbraMatchesReference|Tabulated\.ASoftShadowUnderAThinSlabShadowsWhatCrossesIt|AutoQualityHeldOut\.TheCalibratedErrorModelBoundsTheErrorOnTestScenes|MaterialEdit\.ThreeSuccessiveEditsMatchFull|ProfileBasis\.FittedKnotsBeatUniformKnotsOnHeldOutMedia|ProfileBasis\.TheEditKnotsAreTheFitOnTheCalibrationMedia|ProfileBasis\.ProjectionConservesTheTotalOfEveryPresetAsPrecomputedAndEdited|Textures\.TranslucentTintScalesTheLightByTheTint|Multires\.FullDoesFewerFragmentsThanBruteWhereTheRangeIsLong|Precomputed\.LitSphereAgainstReference|Precomputed\.PlaneConservesEnergy|Precomputed\.ReusedForLightsAndCameraNotForMeshOrMaterial)$'
+# Under the sanitizers, the native tests but SUBSPLAT_SANITIZED_SKIP (native/CMakeLists.txt says
+# which and why), in the shards, and the fuzzers. LeakSanitizer's tracer crashed (signal 11) at some
+# tests' exit after they had passed: up to LLVM 16 its __tls_get_addr interceptor can misread a
+# dynamic TLS block (the GL driver's) as an old glibc's, depending on where malloc put it;
+# intercept_tls_get_addr=0 turns that off, and the tests run the leak check after their last test
+# (native/src/testing/leak_check.cpp) (docs/CI.md).
 CC=clang CXX=clang++ cmake -S . -B build-san -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUBSPLAT_SANITIZE=ON \
   -DSUBSPLAT_FUZZ=ON > /dev/null
 cmake --build build-san -j"$(nproc)" --target subsplat_tests fuzz_subedit_file fuzz_scene_input
@@ -39,7 +39,7 @@ stage "build-san/ built"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:intercept_tls_get_addr=0 \
   LSAN_OPTIONS="suppressions=$PWD/../tests/sanitizers/lsan.supp:print_suppressions=0" \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest -L '^(unit|native-gl|fuzz)$' -E "$SANITIZED_SKIP" -j"$jobs" --output-on-failure)
+  ctest -L '^(native-shard|fuzz)$' -j"$jobs" --output-on-failure)
 for log in build-san/fuzz_*/fuzz.log; do
   echo "$log: $(grep -E '^stat::(number_of_executed_units|peak_rss_mb)' "$log" | tr '\n' ' ')"
 done
