@@ -190,6 +190,46 @@ TEST(PrecomputedAtlas, CoversEachTriangleOnceWithBorders) {
   EXPECT_EQ(worst, 0u) << "texels within the border of a core texel hold no point";
 }
 
+// A cube's six faces meet at creases (90 degrees): no border texel of a face's chart receives on
+// another face (the display's bilinear lookup would blend that face's exitance, a lit cap beside a
+// dark side, into the face's last half texel: marble_pieces' cylinder rim, docs/PRECOMPUTED.md), and
+// every texel within the border of a core texel still holds a point (its face's nearest).
+TEST(PrecomputedAtlas, BordersDoNotCrossCreases) {
+  const std::vector<glm::vec3> positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                            {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const std::vector<uint32_t> indices = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                         1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7};
+  const size_t triangles = indices.size() / 3;
+  const int border = 4;
+  Atlas atlas = buildAtlas(positions, indices, std::vector<char>(triangles, 1), 0.05f, border, size_t(1) << 24);
+  ASSERT_EQ(atlas.charts, 6) << "a chart per face";
+  auto normal = [&](uint32_t t) {
+    glm::vec3 a = positions[indices[3 * t]], b = positions[indices[3 * t + 1]], c = positions[indices[3 * t + 2]];
+    return glm::normalize(glm::cross(b - a, c - a));
+  };
+  std::vector<glm::vec3> chartNormal(6, glm::vec3(0.0f));
+  for (uint32_t t = 0; t < triangles; ++t) chartNormal[size_t(atlas.chartOfTriangle[t])] = normal(t);
+  size_t border_texels = 0, across = 0, missing = 0;
+  for (int y = 0; y < atlas.height; ++y)
+    for (int x = 0; x < atlas.width; ++x) {
+      const AtlasTexel& t = atlas.at(x, y);
+      if (t.kind == AtlasTexel::kBorder) {
+        ++border_texels;
+        if (glm::dot(normal(t.triangle), chartNormal[size_t(t.chart)]) < 0.99f) ++across;
+      }
+      if (t.kind != AtlasTexel::kCore) continue;
+      for (int dy = -border; dy <= border; ++dy)
+        for (int dx = -border; dx <= border; ++dx) {
+          int nx = x + dx, ny = y + dy;
+          bool inside = nx >= 0 && ny >= 0 && nx < atlas.width && ny < atlas.height;
+          if (!inside || atlas.at(nx, ny).kind == AtlasTexel::kEmpty) ++missing;
+        }
+    }
+  EXPECT_GT(border_texels, 6u * 4u * 20u);
+  EXPECT_EQ(across, 0u) << "border texels receive on another face";
+  EXPECT_EQ(missing, 0u) << "texels within the border of a core texel hold no point";
+}
+
 // The lit sphere (a sun at 70 degrees and a point light behind: a terminator, curvature, a thin
 // rim) against REFERENCE (at 100 000 samples; 48 x 48 pixels), under each profile model: no further
 // than FULL's image (0.48 % against FULL's 1.04 % with DIPOLE, 1.12 % against 1.31 % with

@@ -119,6 +119,7 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
   atlas.chartOfTriangle.assign(triangles, -1);
   atlas.cornerTexel.assign(3 * triangles, glm::vec2(0.0f));
   const float cosLimit = std::cos(glm::radians(kMaxDeviationDegrees));
+  const float kCreaseCosine = std::cos(glm::radians(kCreaseDegrees));
 
   // 1. Charts.
   std::vector<ChartBuild> charts;
@@ -188,7 +189,8 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
     chart.size = glm::ivec2(glm::ceil(chart.hi)) + border + 1;
   }
 
-  // 3. Border: unfolded across shared edges, ring by ring, while they reach the rectangle.
+  // 3. Border: unfolded across shared edges, ring by ring, while they reach the rectangle, but not
+  // across a crease (neighbouring faces more than kCreaseDegrees apart).
   for (size_t ci = 0; ci < charts.size(); ++ci) {
     ChartBuild& chart = charts[ci];
     std::unordered_map<uint32_t, size_t> placedAt;
@@ -205,6 +207,10 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
         glm::vec2 pa = q[size_t(k)], pb = q[size_t((k + 1) % 3)], pc = q[size_t((k + 2) % 3)];
         for (uint32_t n : edges[edgeKey(a, b)]) {
           if (placedAt.count(n) || atlas.chartOfTriangle[n] == int(ci)) continue;
+          // Not across a crease: the face beyond it has an exitance of its own (a cylinder's lit
+          // cap beside its side), which the display's bilinear lookup would blend into this face's
+          // last half texel. Those texels take their nearest neighbour's point instead (below).
+          if (glm::dot(cross[t], cross[n]) < kCreaseCosine * glm::length(cross[t]) * glm::length(cross[n])) continue;
           // n's corners: a and b where they are; its third placed across the edge from pc.
           int ka = -1, kb = -1, kc = -1;
           for (int j = 0; j < 3; ++j) {

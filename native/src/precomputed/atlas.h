@@ -5,8 +5,8 @@
 //     while each triangle's normal is within kMaxDeviationDegrees of the chart's mean normal.
 //  2. Each chart is projected orthographically onto the plane of its mean normal, and turned so
 //     that its bounding box has the least area.
-//  3. Border: the triangles around the chart are unfolded into its plane across shared edges (each
-//     keeps its own shape; a fan around a vertex may leave a wedge), ring by ring, and fill the
+//  3. Border: the triangles around the chart are unfolded into its plane across shared edges but
+//     creases (each keeps its own shape; a fan around a vertex may leave a wedge), ring by ring, and fill the
 //     texels around the chart's core out to `border` texels; a texel the unfolding leaves empty
 //     takes its nearest filled neighbour's point with no area (a place for the display's bilinear
 //     lookup, which adds no light).
@@ -56,6 +56,9 @@ struct Atlas {
 };
 
 constexpr float kMaxDeviationDegrees = 30.0f;
+// Two triangles whose normals differ by more than this meet at a crease, which the border does not
+// unfold across (a cylinder's rim; a smooth surface's neighbours are a few degrees apart).
+constexpr float kCreaseDegrees = 60.0f;
 
 // The atlas of a mesh in world space (positions, 3 indices a triangle); `include` says which
 // triangles are in it (translucent ones). Texel side `texel` (world units) and `border` texels.
