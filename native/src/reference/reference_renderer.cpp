@@ -141,6 +141,7 @@ struct SurfaceSample {
   glm::vec3 fluxMu0;    // TABULATED: the flux of each light times its incidence cosine, summed
   glm::vec3 normal;     // TABULATED: the shading normal, facing the (first) light
   float diameter;       // longest edge of the cell
+  float area;           // the cell's area (the TABULATED profile's peak reads it)
   uint32_t material;    // the entry at the centroid
   uint32_t base;        // the material's first entry
   bool mapped;          // several profiles and UVs: the UVs choose among them
@@ -267,7 +268,7 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
             continue;
           }
           double k[3];
-          pair.evaluate(r2, k, pair.readsArea() ? 0.5 * double(glm::length(glm::cross(s.corners[1] - s.corners[0], s.corners[2] - s.corners[0]))) : 0.0);
+          pair.evaluate(r2, k, pair.readsArea() ? double(s.area) : 0.0);
           ++evaluations;
           glm::dvec3 kernel(k[0], k[1], k[2]);
           sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
@@ -630,6 +631,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         s.diameter = std::sqrt(std::max({glm::dot(s.corners[1] - s.corners[0], s.corners[1] - s.corners[0]),
                                          glm::dot(s.corners[2] - s.corners[1], s.corners[2] - s.corners[1]),
                                          glm::dot(s.corners[0] - s.corners[2], s.corners[0] - s.corners[2])}));
+        s.area = 0.5f * glm::length(glm::cross(s.corners[1] - s.corners[0], s.corners[2] - s.corners[0]));
         s.material = entryAt(m, tc.triangle, {1.0f - centre.x - centre.y, centre.x, centre.y});
         s.base = (*m.materials)[tc.triangle];
         s.mapped = hasUvs && entries[s.base].mapped();
