@@ -106,8 +106,8 @@ TEST_F(MaterialEdit, ThreeSuccessiveEditsMatchFull) {
 // An edit that changes nothing the direct light reads but the absorption keeps the direct light of
 // the render before it and draws no light view, under each model (TABULATED's light through thin
 // parts is evaluated again for the edited material: Tabulated.AnEditsLightThroughAThinSlab...); its
-// image is the one an edit that draws the direct light again gives. A change of the specular
-// level or a render of another method in between draws it again.
+// image is the one an edit that draws the direct light again gives; it keeps the camera's G-buffer
+// too. A change of the specular level or a render of another method in between draws it again.
 TEST_F(MaterialEdit, AnAbsorptionEditKeepsTheDirectLight) {
   testing::Sphere sphere;
   for (int model : {SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED}) {
@@ -124,6 +124,8 @@ TEST_F(MaterialEdit, AnAbsorptionEditKeepsTheDirectLight) {
     std::vector<float> kept = render(SS_METHOD_MATERIAL_EDIT, &stats);
     EXPECT_EQ(stats.transport_reused, 1);
     EXPECT_EQ(stats.light_views, 0) << "the absorption edit drew the direct light again";
+    EXPECT_EQ(stats.fragment_invocations[SS_STAGE_BUFFERS], 0u)
+        << "the absorption edit drew the camera's G-buffer again (geometry, camera and size as they were)";
     ASSERT_EQ(ssSetMaterial(context, 0, &shiny), SS_OK);
     render(SS_METHOD_MATERIAL_EDIT, &stats);
     EXPECT_EQ(stats.transport_reused, 1);
@@ -142,6 +144,7 @@ TEST_F(MaterialEdit, AnAbsorptionEditKeepsTheDirectLight) {
     render(SS_METHOD_MATERIAL_EDIT, &stats);
     EXPECT_EQ(stats.transport_reused, 1);
     EXPECT_EQ(stats.light_views, views) << "an edit after FULL kept FULL's direct light";
+    EXPECT_GT(stats.fragment_invocations[SS_STAGE_BUFFERS], 0u) << "an edit after FULL kept the G-buffer";
   }
 }
 

@@ -152,6 +152,10 @@ void Renderer::render(int width, int height, float* rgba) {
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
   if (!scene_.hasCamera()) fail(SS_INVALID_ARGUMENT, "no camera was set");
   lastMethod_ = -1;
+  // What the last render kept for the next edit serves only if nothing came between: a render
+  // that fails or draws anything else leaves it invalid.
+  const bool directWasKept = directKept_;
+  directKept_ = false;
   // A budgeted render goes on where the last stopped when nothing changed since (the buffers and
   // the splatted levels are as it left them); it is invalid again until this one succeeds.
   bool budgeted = splatBudget_ > 0 && settings_.debug_passes == 0 && profiler_.countsFragments() &&
@@ -248,7 +252,19 @@ void Renderer::render(int width, int height, float* rgba) {
   };
   const SsCameraDesc first = sampleCamera(0);
   scene_.setCamera(first);
-  if (!resuming) {
+  // Going on with one sample, the direct light is the first render's (anti-aliasing's other
+  // samples draw theirs into the same buffer, so with them every render draws it again).
+  // A material edit that leaves what the direct light reads as it was keeps the direct light of
+  // the render before it (the precomputation's, or an edit's), and draws no light view. With
+  // TABULATED materials, only where that render kept the light they send through thin parts.
+  std::vector<double> directSignature;
+  if (editing && samples == 1 && settings_.first_sample == 0) directSignature = this->directSignature();
+  bool keptDirect = reuse && directWasKept && !directSignature.empty() && directSignature == directKeptFor_ &&
+                    (!scene_.tabulated() || directThroughKept_);
+  // Such an edit also keeps that render's camera G-buffer and its hierarchy: the geometry, the
+  // camera and the size are the transport's (transportServes), the materials what the direct light
+  // read (the signature), and any render between them, or a failed one, cleared directKept_.
+  if (!resuming && !keptDirect) {
     profiler.begin(SS_STAGE_BUFFERS);
     splatting_.render(scene_, gpuScene_);
     splatting_.buildHierarchy(scene_.camera());
@@ -259,16 +275,6 @@ void Renderer::render(int width, int height, float* rgba) {
     profiler.end();
     resume = Resume{};
   }
-  // Going on with one sample, the direct light is the first render's (anti-aliasing's other
-  // samples draw theirs into the same buffer, so with them every render draws it again).
-  // A material edit that leaves what the direct light reads as it was keeps the direct light of
-  // the render before it (the precomputation's, or an edit's), and draws no light view. With
-  // TABULATED materials, only where that render kept the light they send through thin parts.
-  std::vector<double> directSignature;
-  if (editing && samples == 1 && settings_.first_sample == 0) directSignature = this->directSignature();
-  bool keptDirect = reuse && directKept_ && !directSignature.empty() && directSignature == directKeptFor_ &&
-                    (!scene_.tabulated() || directThroughKept_);
-  directKept_ = keptDirect;  // until this render succeeds
   bool reuseDirect = (resuming && samples == 1) || keptDirect;
   if (!reuseDirect) shading_.clear();
   gl::checkErrors("splatting buffer");

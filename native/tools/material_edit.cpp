@@ -133,9 +133,9 @@ int main(int argc, char** argv) {
       if (!setEdit(e) || !render(context, SS_METHOD_FULL, width, height, resolution, full, fullStats)) return 1;
       const SsStats& s = editsStats[e];
       std::printf("%s\n    {\"edit\": \"%s\", \"reused\": %d, \"edit_ms\": %.1f, \"edit_fragments\": %llu, "
-                  "\"edit_light_views\": %d, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f}",
+                  "\"edit_light_views\": %d, \"edit_stage_ms\": %s, \"full_ms\": %.1f, \"full_fragments\": %llu, \"error\": %.5f}",
                   e == 0 ? "" : ",", names[e], s.transport_reused, s.frame_ms, (unsigned long long)fragments(s),
-                  s.light_views, fullStats.frame_ms, (unsigned long long)fragments(fullStats),
+                  s.light_views, stages(s).c_str(), fullStats.frame_ms, (unsigned long long)fragments(fullStats),
                   subsplat::testing::relativeRmse(edits[e], full));
       if (!images.empty())
         subsplat::testing::writeComparison(std::string(subsplat::testing::setName(set)) + "_" + std::to_string(index) +
