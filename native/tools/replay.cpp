@@ -300,9 +300,19 @@ Image render(SsContext context, const SsSettings& settings, int width, int heigh
       std::printf("  render %d: %.0f ms (GPU: buffers %.0f, splatting %.0f, shading %.0f), progress %.3f\n",
                   r.renders + 1, stats.frame_ms, stats.stage_ms[SS_STAGE_BUFFERS], stats.stage_ms[SS_STAGE_SPLATTING],
                   stats.stage_ms[SS_STAGE_SHADING], stats.splatting_progress);
-    if (std::getenv("SUBSPLAT_REPLAY_DEBUG") && settings.method == SS_METHOD_PRECOMPUTED)
+    if (std::getenv("SUBSPLAT_REPLAY_DEBUG") && settings.method == SS_METHOD_PRECOMPUTED) {
       std::printf("  precomputed in %.0f ms (reused %d), relit in %.0f ms, %.0f MiB\n", stats.precompute_ms,
                   stats.transport_reused, stats.relight_ms, double(stats.precomputed_bytes) / 1048576.0);
+      SsPrecomputedObject objects[64];
+      uint32_t count = 0;
+      if (ssGetPrecomputedObjects(context, objects, 64, &count) == SS_OK)
+        for (uint32_t i = 0; i < count && i < 64; ++i)
+          std::printf("    object %u: %u vertices, %llu texels of %.4g units, local range %.4g units, %llu factors, "
+                      "%.0f MiB\n",
+                      objects[i].object_id, objects[i].vertices, (unsigned long long)objects[i].texels,
+                      objects[i].texel_size, objects[i].local_range, (unsigned long long)objects[i].factors,
+                      double(objects[i].bytes) / 1048576.0);
+    }
     if (r.renders == 0) r.firstMs = stats.frame_ms;
     ++r.renders;
     r.longestMs = std::max(r.longestMs, stats.frame_ms);
