@@ -484,6 +484,26 @@ TEST(PrecomputedMemory, HoldsAtMostTheBytesItIsGiven) {
 
 // Per object (ssGetPrecomputedObjects): each translucent object's figures, which sum to the
 // render's stats; a capacity smaller than the count writes that many; bad arguments are refused.
+// The texel of an object mostly within one local range (a candle under wax's long red profile,
+// modelled with vertices on its rims only: its local range is the profile's support, it has no
+// global branch) is finer than kMaxRadius texels across that range, while all its kernels' taps
+// stay within kSmallObjectTaps; a large object under the same profile keeps kMaxRadius.
+TEST(PrecomputedSizes, ASmallObjectUnderALongProfileGetsAFinerTexel) {
+  const double edge = 1.25, support = 1.9, detail = 0.02;  // scene units: wax_jade's candle's
+  const size_t bytes = size_t(300) << 20;
+  PrecomputationSize small = choosePrecomputation(12.0, edge, support, detail, bytes);
+  PrecomputationSize large = choosePrecomputation(300.0, edge, support, detail, bytes);
+  const double capped = support / PrecomputedTransport::kMaxRadius;
+  std::printf("local range %.3g; texel: small object %.4g, large object %.4g (kMaxRadius's %.4g)\n",
+              double(small.localRange), double(small.texel), double(large.texel), capped);
+  ASSERT_FLOAT_EQ(small.localRange, float(support));
+  EXPECT_LT(small.texel, 0.5 * capped) << "the small object's texel is held at kMaxRadius";
+  const double texels = 1.8 * 12.0 / (double(small.texel) * small.texel) + 64.0;
+  const double reach = support / small.texel + 0.5;
+  EXPECT_LE(texels * std::min(M_PI * reach * reach, texels), PrecomputedTransport::kSmallObjectTaps * 1.0001);
+  EXPECT_FLOAT_EQ(large.texel, float(capped)) << "a large object's texel moved";
+}
+
 TEST_F(Precomputed, ReportsEachObject) {
   testing::Sphere sphere(24, 12);
   SsMaterialDesc skin = testing::skinMaterial(30.0f), grey = testing::greyMaterial(0.5f);

@@ -274,9 +274,21 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   double local = std::min(PrecomputedTransport::kLocalEdges * edge, support);
   if (!(local > 0.0)) local = std::max(edge, 1e-9);
   size.localRange = float(local);
-  double texel = std::max(local / PrecomputedTransport::kMaxRadius,
-                          std::min(detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
-                                   local / PrecomputedTransport::kMinRadius));
+  const double wanted = std::min(detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
+                                 local / PrecomputedTransport::kMinRadius);
+  double texel = std::max(local / PrecomputedTransport::kMaxRadius, wanted);
+  // A small object under a long profile: a texel's kernel has no more taps than the object has
+  // texels, so a finer texel than kMaxRadius allows is taken while all its kernels' taps stay
+  // within kSmallObjectTaps (the object mostly within one local range: no global branch to carry
+  // the light instead, docs/PRECOMPUTED.md, "Sizes").
+  for (double t = wanted; t < texel; t *= 1.05) {
+    const double texels = 1.8 * area / (t * t) + 64.0;
+    const double reach = local / t + 0.5;
+    if (texels * std::min(M_PI * reach * reach, texels) <= PrecomputedTransport::kSmallObjectTaps) {
+      texel = t;
+      break;
+    }
+  }
   auto radiusFor = [&](double t) {
     return std::clamp(int(std::ceil(local / t - 1e-6)), PrecomputedTransport::kMinRadius, PrecomputedTransport::kMaxRadius);
   };
@@ -285,7 +297,10 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   // surface) within three quarters of the memory, the rest for the factors.
   for (int step = 0; step < 200; ++step) {
     double texels = 1.8 * area / (texel * texel) + 64.0;
-    double taps = M_PI * (radius + 0.5) * (radius + 0.5);  // the core texels within the local range
+    // The core texels within the local range; no more than the object's own past kMaxRadius.
+    double taps = texel * PrecomputedTransport::kMaxRadius < local
+                      ? std::min(M_PI * (local / texel + 0.5) * (local / texel + 0.5), texels)
+                      : M_PI * (radius + 0.5) * (radius + 0.5);
     double bytes = texels * (taps * PrecomputedTransport::kTapBytes + PrecomputedTransport::kTexelBytes);
     if (bytes <= 0.75 * double(maxBytes)) break;
     texel *= 1.15;

@@ -55,6 +55,9 @@ class PrecomputedTransport {
   static constexpr double kDetailTexel = 0.7;  // the texel, of the finest half-energy radius
   static constexpr double kFactorThreshold = 1e-6;
   static constexpr double kLocalEdges = 4.0;  // the local response reaches this many mean edges
+  // The most kernel taps of an object (64 MiB of them) whose texel is finer than kMaxRadius
+  // allows: a small object under a long profile (choosePrecomputation).
+  static constexpr double kSmallObjectTaps = 4.0e6;
   // The kernels' and factors' memory, all objects together, unless the caller's budget is lower.
   static constexpr size_t kDefaultBytes = size_t(512) << 20;
 
