@@ -280,7 +280,7 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   // A small object under a long profile: a texel's kernel has no more taps than the object has
   // texels, so a finer texel than kMaxRadius allows is taken while all its kernels' taps stay
   // within kSmallObjectTaps (the object mostly within one local range: no global branch to carry
-  // the light instead, docs/PRECOMPUTED.md, "Sizes").
+  // the light instead; docs/PRECOMPUTED.md, "What it is").
   for (double t = wanted; t < texel; t *= 1.05) {
     const double texels = 1.8 * area / (t * t) + 64.0;
     const double reach = local / t + 0.5;
