@@ -277,37 +277,38 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   const double wanted = std::min(detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
                                  local / PrecomputedTransport::kMinRadius);
   double texel = std::max(local / PrecomputedTransport::kMaxRadius, wanted);
-  // A small object under a long profile: a texel's kernel has no more taps than the object has
-  // texels, so a finer texel than kMaxRadius allows is taken while all its kernels' taps stay
-  // within kSmallObjectTaps (the object mostly within one local range: no global branch to carry
-  // the light instead; docs/PRECOMPUTED.md, "What it is").
-  for (double t = wanted; t < texel; t *= 1.05) {
-    const double texels = 1.8 * area / (t * t) + 64.0;
-    const double reach = local / t + 0.5;
-    if (texels * std::min(M_PI * reach * reach, texels) <= PrecomputedTransport::kSmallObjectTaps) {
-      texel = t;
-      break;
-    }
-  }
   auto radiusFor = [&](double t) {
     return std::clamp(int(std::ceil(local / t - 1e-6)), PrecomputedTransport::kMinRadius, PrecomputedTransport::kMaxRadius);
   };
-  int radius = radiusFor(texel);
-  // Kernels, records and outputs of the texels (borders and packing about 80 % more than the
-  // surface) within three quarters of the memory, the rest for the factors.
+  // The texels at texel t (borders and packing about 80 % more than the surface), and each one's
+  // kernel taps: the core texels within the local range, no more than the object's own past
+  // kMaxRadius.
+  auto texelsAt = [&](double t) { return 1.8 * area / (t * t) + 64.0; };
+  auto tapsAt = [&](double t) {
+    if (t * PrecomputedTransport::kMaxRadius >= local) {
+      int radius = radiusFor(t);
+      return M_PI * (radius + 0.5) * (radius + 0.5);
+    }
+    return std::min(M_PI * (local / t + 0.5) * (local / t + 0.5), texelsAt(t));
+  };
+  // A small object under a long profile: a finer texel than kMaxRadius allows is taken while all
+  // its kernels' taps stay within kSmallObjectTaps (the object mostly within one local range: no
+  // global branch to carry the light instead; docs/PRECOMPUTED.md, "What it is").
+  for (double t = wanted; t < texel; t *= 1.05)
+    if (texelsAt(t) * tapsAt(t) <= PrecomputedTransport::kSmallObjectTaps) {
+      texel = t;
+      break;
+    }
+  // Kernels, records and outputs of the texels within three quarters of the memory, the rest for
+  // the factors.
   for (int step = 0; step < 200; ++step) {
-    double texels = 1.8 * area / (texel * texel) + 64.0;
-    // The core texels within the local range; no more than the object's own past kMaxRadius.
-    double taps = texel * PrecomputedTransport::kMaxRadius < local
-                      ? std::min(M_PI * (local / texel + 0.5) * (local / texel + 0.5), texels)
-                      : M_PI * (radius + 0.5) * (radius + 0.5);
+    double texels = texelsAt(texel), taps = tapsAt(texel);
     double bytes = texels * (taps * PrecomputedTransport::kTapBytes + PrecomputedTransport::kTexelBytes);
     if (bytes <= 0.75 * double(maxBytes)) break;
     texel *= 1.15;
-    radius = radiusFor(texel);
   }
   size.texel = float(texel);
-  size.radius = radius;
+  size.radius = radiusFor(texel);
   return size;
 }
 
