@@ -11,6 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base=${1:?usage: bench/ab_replay.sh BASE_REVISION [OUT_DIR]}
+base=$(git rev-parse --verify "$base^{commit}")  # here, not in the worktree (whose HEAD is its own)
 out=${2:-build/ab}
 methods=${METHODS:-FULL,BRUTE}
 runs=${RUNS:-3}

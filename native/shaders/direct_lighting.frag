@@ -6,6 +6,13 @@
 // added: what it is before the slab's transmission goes to throughEntering (the entering light
 // times the exit's factors and the tint, and the thickness) and throughAngles (mu0, mu, 1), which
 // direct_through.frag turns into light for the materials as they are.
+//
+// Compiled in variants (pipeline/shading.h: Shading::directProgram): SOFT_SHADOWS, how this view's
+// shadows are filtered (0 hard, on the shadow map; 1 a sun's soft shadows, on its shadow map; 2 a
+// point, spot or area light's, on the irradiance buffer's resolution), and TRANSMISSION, 1 where
+// some material is TABULATED. llvmpipe runs both sides of a branch whatever the lanes take, so a
+// uniform's branch cost the whole pass the soft filter's and the light through's code on every
+// pixel (docs/BENCHMARKS.md, "The direct light's variants").
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_SPLATTING_ALBEDO) uniform sampler2D splattingAlbedo;
@@ -24,7 +31,6 @@ uniform vec3 cameraForward;
 uniform int orthographic;
 uniform int resolution;
 uniform int unshadowedOutside;   // sun: surfaces outside the view are lit
-uniform int transmission;        // some material is TABULATED
 uniform int keptThrough;
 layout(binding = UNIT_IRRADIANCE_POSITION_MATERIAL) uniform sampler2D irradiancePositionMaterial;
 layout(binding = UNIT_IRRADIANCE_NORMAL_OBJECT) uniform sampler2D irradianceNormalObject;
@@ -78,7 +84,7 @@ void main() {
   vec3 tint = texelFetch(splattingAlbedo, pixel, 0).rgb;
   float nl = dot(n, L);
   vec3 V = orthographic != 0 ? -cameraForward : normalize(cameraPosition - p);
-  bool tabulated = transmission != 0 && isTabulated(m);
+  bool tabulated = TRANSMISSION != 0 && isTabulated(m);
   if (nl <= 0.0 && !tabulated) discard;
 
   // Does this view own the pixel, and does the light reach it?
@@ -89,11 +95,14 @@ void main() {
   vec3 ndc = clip.xyz / clip.w;
   bool inside = clip.w > 0.0 && all(lessThan(abs(ndc.xy), vec2(1.0)));
   float visibility = 1.0;
-  if (inside && lightSoftSize > 0.0 && lightType == LIGHT_SUN) {  // on the shadow map, its texels and bias its own
+#if SOFT_SHADOWS == 1
+  if (inside) {  // on the shadow map, its texels and bias its own
     visibility = softVisibilityAt(shadowDepth, shadowResolution, resolution, p, n, nl, -1.0);
-  } else if (inside && lightSoftSize > 0.0) {  // on the irradiance buffer's resolution
+#elif SOFT_SHADOWS == 2
+  if (inside) {  // on the irradiance buffer's resolution
     visibility = softVisibilityAt(softDepth, resolution, resolution, p, n, nl, -1.0);
-  } else if (inside) {  // on the shadow map, its texels and bias its own
+#else
+  if (inside) {  // on the shadow map, its texels and bias its own
     float fineTexel = texel * float(resolution) / float(shadowResolution);
     vec3 fine = p + n * (1.5 * fineTexel);
     vec4 c = lightViewProj * vec4(fine, 1.0);
@@ -102,11 +111,13 @@ void main() {
     float stored = texelFetch(shadowDepth, t, 0).r;
     float depth = lightType == LIGHT_SUN ? dot(fine, lightDirection) : distance(fine, lightPosition);
     visibility = depth <= stored + 2.0 * fineTexel ? 1.0 : 0.0;
+#endif
   } else if (unshadowedOutside == 0) {
     discard;
   }
 
   vec3 through = vec3(0.0);
+#if TRANSMISSION
   if (tabulated && (nl <= 0.0 || visibility == 0.0)) {
     vec4 c = lightViewProj * vec4(p, 1.0);  // the texel over p itself, not over the offset point
     vec2 q = c.xy / c.w;
@@ -114,6 +125,7 @@ void main() {
       through = transmitted(p, n, m, po.w, V, clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0),
                                                         ivec2(resolution - 1)), tint) * tint;
   }
+#endif
   float nsl = dot(ns, L);
   if (nl <= 0.0 || nsl <= 0.0) {
     radiance = vec4(through, 0.0);

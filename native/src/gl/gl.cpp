@@ -267,8 +267,9 @@ Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers, GLuint depth
   return framebuffer;
 }
 
-static GLuint compileShader(GLenum type, const std::string& name, const char* source) {
-  std::string header = "#version 430 core\n" + glslBindingDefines();
+static GLuint compileShader(GLenum type, const std::string& name, const char* source,
+                            const std::string& defines = "") {
+  std::string header = "#version 430 core\n" + glslBindingDefines() + defines;
   std::string include = shaderSource("common.glsl");
   std::string full = header + include + "\n#line 1\n" + source;
   const char* text = full.c_str();
@@ -288,10 +289,10 @@ static GLuint compileShader(GLenum type, const std::string& name, const char* so
   return shader;
 }
 
-static GLuint compileShader(GLenum type, const std::string& name) {
+static GLuint compileShader(GLenum type, const std::string& name, const std::string& defines = "") {
   const char* source = shaderSource(name);
   if (!source) fail(SS_INTERNAL_ERROR, "no embedded shader named " + name);
-  return compileShader(type, name, source);
+  return compileShader(type, name, source, defines);
 }
 
 // Attaches and links the compiled shaders (and deletes them); throws with the info log.
@@ -310,13 +311,13 @@ static void link(const Program& program, const std::vector<GLuint>& shaders, con
 }
 
 Program makeProgram(const std::string& vertex, const std::string& geometry,
-                    const std::string& fragment) {
+                    const std::string& fragment, const std::string& defines) {
   Program program(glCreateProgram());
   std::vector<GLuint> shaders;
   try {
-    shaders.push_back(compileShader(GL_VERTEX_SHADER, vertex));
-    if (!geometry.empty()) shaders.push_back(compileShader(GL_GEOMETRY_SHADER, geometry));
-    shaders.push_back(compileShader(GL_FRAGMENT_SHADER, fragment));
+    shaders.push_back(compileShader(GL_VERTEX_SHADER, vertex, defines));
+    if (!geometry.empty()) shaders.push_back(compileShader(GL_GEOMETRY_SHADER, geometry, defines));
+    shaders.push_back(compileShader(GL_FRAGMENT_SHADER, fragment, defines));
   } catch (...) {
     for (GLuint s : shaders) glDeleteShader(s);
     throw;

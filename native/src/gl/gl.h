@@ -138,9 +138,10 @@ Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers, GLuint depth
 // texture as attachments 1 .. layers.
 Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int first, int layers);
 // Compiles and links shaders by name from the embedded table (shaders/*.glsl);
-// throws with the info log on failure.
+// throws with the info log on failure. `defines` ("#define NAME value" lines) go before every
+// stage's source: a variant of the program (Shading::directProgram).
 Program makeProgram(const std::string& vertex, const std::string& geometry,
-                    const std::string& fragment);
+                    const std::string& fragment, const std::string& defines = "");
 
 Program makeComputeProgram(const std::string& compute);
 // The same for a compute shader given as source (the tests that run common.glsl's functions).

@@ -7,9 +7,7 @@
 namespace subsplat {
 
 void Shading::resize(int width, int height) {
-  if (!directProgram_) {
-    directProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag");
-    finalProgram_ = gl::makeProgram("fullscreen.vert", "", "final_shading.frag");
+  if (!throughProgram_) {
     throughProgram_ = gl::makeProgram("fullscreen.vert", "", "direct_through.frag");
     empty_ = gl::makeVertexArray();
   }
@@ -89,6 +87,25 @@ void Shading::addKeptThrough(const SplattingBuffer& splatting, GLuint transportT
   readThroughDirect_ = true;
 }
 
+GLuint Shading::directProgram(int softShadows, bool transmission) {
+  gl::Program& program = directPrograms_[softShadows][transmission ? 1 : 0];
+  if (!program)
+    program = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag",
+                              "#define SOFT_SHADOWS " + std::to_string(softShadows) + "\n#define TRANSMISSION " +
+                                  std::to_string(transmission ? 1 : 0) + "\n");
+  return program.id();
+}
+
+GLuint Shading::finalProgram(bool environment, bool transmission, int world) {
+  gl::Program& program = finalPrograms_[environment ? 1 : 0][transmission ? 1 : 0][world];
+  if (!program)
+    program = gl::makeProgram("fullscreen.vert", "", "final_shading.frag",
+                              std::string("#define ENVIRONMENT ") + (environment ? "1" : "0") +
+                                  "\n#define TRANSMISSION " + (transmission ? "1" : "0") + "\n#define WORLD " +
+                                  std::to_string(world) + "\n");
+  return program.id();
+}
+
 void Shading::directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
                              const SplattingBuffer& splatting, GLuint transportTables, int keptView) {
   bool kept = keptView >= 0 && keptView < throughViews_;
@@ -97,7 +114,8 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   glEnable(GL_BLEND);
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
-  GLuint p = directProgram_.id();
+  int softShadows = view.softSize <= 0.0f ? 0 : view.light->type == SS_LIGHT_SUN ? 1 : 2;
+  GLuint p = directProgram(softShadows, scene.tabulated());
   glUseProgram(p);
   setLightUniforms(p, view);
   setCameraUniforms(p, scene.camera());
@@ -112,7 +130,6 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   bindTexture(gl::UNIT_SHADOW_DEPTH, GL_TEXTURE_2D, shadow.shadowDepth);
   bindTexture(gl::UNIT_SOFT_DEPTH, GL_TEXTURE_2D, shadow.softDepth ? shadow.softDepth : shadow.lightDepth);
   glUniform1i(uniform(p, "shadowResolution"), shadow.shadowResolution);
-  glUniform1i(uniform(p, "transmission"), scene.tabulated() ? 1 : 0);
   glUniform1i(uniform(p, "keptThrough"), kept ? 1 : 0);
   if (scene.tabulated()) {
     bindTexture(gl::UNIT_IRRADIANCE_POSITION_MATERIAL, GL_TEXTURE_2D, shadow.positionMaterial);
@@ -141,11 +158,11 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
     glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE);
     glBlendColor(0.0f, 0.0f, 0.0f, weight);
   }
-  GLuint p = finalProgram_.id();
+  bool blackWorld = !world.worldHarmonics && world.worldRadiance == glm::vec3(0.0f) && world.worldBelow == glm::vec3(0.0f);
+  GLuint p = finalProgram(environment.texture != 0, scene.tabulated(), world.worldHarmonics ? 2 : blackWorld ? 0 : 1);
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
   glUniform4fv(uniform(p, "background"), 1, background);
-  glUniform1i(uniform(p, "environment"), environment.texture != 0 ? 1 : 0);
   if (environment.texture != 0) {
     const SsCameraDesc& camera = scene.camera();
     glm::mat4 clipToWorld = glm::inverse(glm::make_mat4(camera.view_to_clip) * glm::make_mat4(camera.world_to_view));
@@ -157,7 +174,6 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
   }
   glUniform3fv(uniform(p, "worldAbove"), 1, &world.worldRadiance.x);
   glUniform3fv(uniform(p, "worldBelow"), 1, &world.worldBelow.x);
-  glUniform1i(uniform(p, "worldHarmonics"), world.worldHarmonics ? 1 : 0);
   glUniform3fv(uniform(p, "worldIrradiance"), 9, &world.worldIrradiance[0].x);
   glUniform1i(uniform(p, "worldUnshadowed"), world.unshadowed ? 1 : 0);
   bindTexture(gl::UNIT_SPLATTING_POSITION_OBJECT, GL_TEXTURE_2D, splatting.positionObject());
