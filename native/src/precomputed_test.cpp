@@ -482,6 +482,55 @@ TEST(PrecomputedMemory, HoldsAtMostTheBytesItIsGiven) {
   }
 }
 
+// Memory shared by area (docs/PRECOMPUTED.md, "Memory"): an object of many small charts (here 60
+// cubes of 6 charts each, 0.03 units across, beside a sphere of radius 1) needs an atlas that no
+// coarser texel makes smaller than its charts' borders; below its share by area (1 % of the 64 MiB)
+// it takes the memory still left instead, and the sphere after it the rest. So too where the cubes
+// lie close together and their factors alone exceed the share. (Until stop 48 both failed with
+// SS_LIMIT_EXCEEDED, as PRECOMPUTED did on the heterogeneous example's bumpy monkey.)
+TEST(PrecomputedMemory, AnObjectOfManyChartsTakesWhatTheOthersLeave) {
+  for (float spacing : {1.5f, 0.06f}) {  // apart: the atlas exceeds the share; together: the factors
+    std::vector<float> positions;
+    std::vector<uint32_t> indices;
+    for (int i = 0; i < 60; ++i) {
+      glm::vec3 lo(spacing * float(i % 8), spacing * float(i / 8), 0.0f);
+      testing::Box box(lo, lo + glm::vec3(0.03f));
+      uint32_t base = uint32_t(positions.size() / 3);
+      positions.insert(positions.end(), box.positions.begin(), box.positions.end());
+      for (uint32_t index : box.indices) indices.push_back(base + index);
+    }
+    SsMeshDesc cubes = testing::Box(glm::vec3(0.0f), glm::vec3(1.0f)).desc(0);
+    cubes.positions = positions.data();
+    cubes.vertex_count = uint32_t(positions.size() / 3);
+    cubes.indices = indices.data();
+    cubes.triangle_count = uint32_t(indices.size() / 3);
+    testing::Sphere sphere(24, 12);
+    Scene scene;
+    scene.setMaterial(0, testing::skinMaterial(30.0f));
+    scene.setMesh(2, cubes);  // first: its share is its area's, before the sphere takes any
+    scene.setMesh(5, sphere.desc(glm::vec3(0.0f, 0.0f, -4.0f), 1.0f, 0));
+    scene.resolveMaterials();
+    const size_t given = size_t(64) << 20;
+    const double cubesArea = 60 * 6 * 0.03 * 0.03, share = cubesArea / (cubesArea + 4.0 * M_PI * 0.99);
+    PrecomputedTransport bounded;
+    try {
+      bounded.precompute(scene, given, {});
+    } catch (const Error& e) {
+      ADD_FAILURE() << "spacing " << spacing << ": " << e.what();
+      continue;
+    }
+    ASSERT_EQ(bounded.objects().size(), 2u);
+    const auto& many = bounded.objects()[0];
+    std::printf("spacing %.2f: cubes %d charts, %zu bytes (%zu factors) at texel %.4f, their share by area %.0f; "
+                "sphere %zu bytes\n",
+                double(spacing), many.atlas.charts, many.bytes(), many.factor.size(), many.atlas.texel,
+                share * double(given), bounded.objects()[1].bytes());
+    EXPECT_GT(double(many.bytes()), 2.0 * share * double(given)) << spacing << ": the cubes kept to their share";
+    EXPECT_GT(bounded.objects()[1].bytes(), 0u) << spacing;
+    EXPECT_LE(bounded.bytes(), given) << spacing;
+  }
+}
+
 // Per object (ssGetPrecomputedObjects): each translucent object's figures, which sum to the
 // render's stats; a capacity smaller than the count writes that many; bad arguments are refused.
 // The texel of an object mostly within one local range (a candle under wax's long red profile,

@@ -517,7 +517,13 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     // The texel and the local range, for this object's share of the memory left.
     const double share = areaLeft > 0.0 ? std::min(area / areaLeft, 1.0) : 1.0;
     areaLeft -= area;
-    const size_t left = size_t(double(maxBytes > used ? maxBytes - used : 0) * share);
+    // An object that does not fit its share even at a coarser texel (many small charts: each takes
+    // its borders whatever the texel; a bumpy mesh split at its creases), or whose factors alone
+    // exceed it, takes all the memory still left instead (widen), from its own texel again; the
+    // objects after it share what it leaves.
+    const size_t poolLeft = maxBytes > used ? maxBytes - used : 0;
+    const size_t left = size_t(double(poolLeft) * share);
+    size_t objectLeft = left;
     object.size = choosePrecomputation(area, edge, support, detail, left);
     auto sideOf = [&](const EntryProfile& in, const glm::vec3& ni, const glm::vec3& no) {
       return in.tabulated ? float(sideWeight(double(glm::dot(ni, no)))) : 1.0f;
@@ -561,12 +567,13 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       object.rowStart.assign(size_t(V) + 1, 0);
       for (int j = 0; j < V; ++j) object.rowStart[size_t(j) + 1] = object.rowStart[size_t(j)] + uint32_t(rows[size_t(j)].size());
       size_t pairBytes = size_t(double(object.rowStart.back()) * kFactorBytes);
-      if (pairBytes > left)
+      if (pairBytes > left && pairBytes <= poolLeft) objectLeft = poolLeft;
+      if (pairBytes > objectLeft)
         fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: object " + std::to_string(object.objectId) + " needs " +
                                     std::to_string(pairBytes >> 20) + " MiB of vertex-to-vertex factors (" +
-                                    std::to_string(object.rowStart.back()) + " vertex pairs), more than its " +
-                                    std::to_string(left >> 20) +
-                                    " MiB share of the memory budget (fewer vertices, or another method)");
+                                    std::to_string(object.rowStart.back()) + " vertex pairs), more than the " +
+                                    std::to_string(objectLeft >> 20) +
+                                    " MiB of the memory budget left to it (fewer vertices, or another method)");
       object.column.reserve(object.rowStart.back());
       object.factor.reserve(object.rowStart.back());
       for (auto& row : rows)
@@ -600,7 +607,14 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     // The atlas, its texels' points and their kernels' taps, within the memory the factors left:
     // the taps (the core texels within the local range of each texel) are counted before any
     // kernel is computed, and a coarser texel is taken until everything fits.
-    const size_t atlasLeft = left > factorBytes ? left - factorBytes : 0;
+    size_t atlasLeft = objectLeft > factorBytes ? objectLeft - factorBytes : 0;
+    const PrecomputationSize chosen = object.size;
+    auto widen = [&]() {
+      if (objectLeft >= poolLeft) return false;
+      objectLeft = poolLeft, atlasLeft = poolLeft > factorBytes ? poolLeft - factorBytes : 0;
+      object.size = chosen;
+      return true;
+    };
     const Atlas& atlas = object.atlas;
     size_t active = 0;
     std::vector<TexelPoint> points, sources;
@@ -621,7 +635,12 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
           object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
           break;
         } catch (const Error& e) {
-          if (e.status() != SS_LIMIT_EXCEEDED || attempt >= 16) throw;
+          if (e.status() != SS_LIMIT_EXCEEDED) throw;
+          if (attempt >= 16) {
+            if (!widen()) throw;
+            attempt = -1;
+            continue;
+          }
         }
         object.size.texel *= 1.25f;
         object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
@@ -675,13 +694,17 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       const size_t bytes = size_t(double(tapCount) * kTapBytes) +
                            recordBytes(atlas, active, object.vertexPositions.size(), object.vertexOfCorner.size());
       if (bytes <= atlasLeft) break;
+      if (fit >= 16 && widen()) {
+        fit = -1;
+        continue;
+      }
       if (fit >= 16)
         fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: object " + std::to_string(object.objectId) + " needs " +
                                     std::to_string((bytes + factorBytes) >> 20) + " MiB of kernels, factors and atlas (" +
                                     std::to_string(tapCount) + " kernel taps over " + std::to_string(active) +
-                                    " texels, " + std::to_string(object.rowStart.back()) + " vertex pairs), more than its " +
-                                    std::to_string(left >> 20) +
-                                    " MiB share of the memory budget (fewer vertices, or another method)");
+                                    " texels, " + std::to_string(object.rowStart.back()) + " vertex pairs), more than the " +
+                                    std::to_string(objectLeft >> 20) +
+                                    " MiB of the memory budget left to it (fewer vertices, or another method)");
       // Texels and taps each go as the texel's inverse square: the fourth root of the excess, a
       // little more.
       double step = std::clamp(1.01 * std::pow(double(bytes) / double(std::max<size_t>(atlasLeft, 1)), 0.25), 1.02, 1.5);
@@ -787,7 +810,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     }
     object.local.assign(atlas.texels.size(), glm::vec4(0.0f));
     object.vertexExitance.assign(size_t(object.vertices), glm::vec4(0.0f));
-    require(object.bytes() <= left, "PRECOMPUTED: an object holds more than its memory was checked for");
+    require(object.bytes() <= objectLeft, "PRECOMPUTED: an object holds more than its memory was checked for");
     used += object.bytes();
     object.precomputeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - objectStart).count();
   }
