@@ -2,6 +2,8 @@
 # The slow tier (docs/CI.md): what CI runs reduced, at full size, and the full sweeps. About
 # two and a half hours on 2 cores (bench/physical.py alone about 25 minutes, bench/auto_sets.sh 30):
 #   - the automatic resolution on the calibration and held-out procedural scenes (CI: two test scenes);
+#   - PRECOMPUTED against REFERENCE and FULL on 12 held-out procedural scenes
+#     (bench/precomputed_heldout.sh, about 15 minutes; CI: the rod alone);
 #   - the soak: 1000 renders in one Blender process (CI: 300);
 #   - the AUTO test of the trade-off on every example (CI: two) and the full sweep of
 #     bench/tradeoff.py at 10 % (docs/TRADEOFF.md's command);

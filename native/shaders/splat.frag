@@ -5,6 +5,9 @@
 // (material/transport_model.h): the splat is weighted out between surfaces that
 // face apart (the transmission term carries that light), and alpha gathers
 // the incidence cosine weighted by the exitance, for the exit factor.
+// Compiled in variants (pipeline/splatting.h: Splatting::program), as direct_lighting.frag is:
+// PAIR_PROFILES 1 where some object has several translucent profiles, TRANSMISSION 1 where some
+// material is TABULATED; llvmpipe runs a branch's code on every fragment, taken or not.
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
 flat in float splatFootprint;
@@ -16,7 +19,6 @@ flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
 uniform int splatLevel;
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
-uniform int pairProfiles;       // non-zero when some object has several translucent profiles
 layout(binding = UNIT_SPLAT_KERNELS) uniform sampler2DArray splatKernels;
 uniform vec2 kernelTableSize;   // (distance samples, footprint samples)
 uniform float footprintReach;   // x sigma
@@ -45,7 +47,8 @@ void main() {
   float d = distance(po.xyz, splatPosition);
   if (d >= reach || d < splatRange.x || d >= splatRange.y) discard;
   vec3 kernel = kernelAt(materials[splatMaterial].optics.w, support, d, splatKernelRow);
-  if (pairProfiles != 0) {
+#if PAIR_PROFILES
+  {
     int mo = int(texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).w);
     if (mo != splatMaterial) {
       if (!isTranslucent(mo)) discard;
@@ -57,12 +60,15 @@ void main() {
       kernel = sqrt(kernel * kernelAt(materials[mo].optics.w, supportO, d, rowO));
     }
   }
+#endif
   vec3 b = splatFlux * kernel;
+#if TRANSMISSION
   if (isTabulated(splatMaterial)) {
     vec3 no = texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).xyz;
     b *= sideWeight(dot(splatNormalMu0.xyz, normalize(no)));
     exitance = vec4(b, (b.r + b.g + b.b) * splatNormalMu0.w);
     return;
   }
+#endif
   exitance = vec4(b, 0.0);
 }

@@ -6,7 +6,8 @@
 // as precomputed (w, its rgb sum), of what the light that reached x_o met where it entered: w, w mu0,
 // w times the slab thickness and w times the slab share (common.glsl: slabGeometry), on this group's
 // side of groupSplit. The edit's incidence factors and exit factor take them. TABULATED materials
-// weight everything by sideWeight, as splat.frag.
+// weight everything by sideWeight, as splat.frag; compiled with TRANSMISSION 1 where some material
+// is TABULATED (pipeline/transport_splatting.h: TransportSplatting::splatProgram).
 flat in vec2 splatRange;
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
@@ -44,10 +45,12 @@ void main() {
   int m = splatMaterial;
   float ell = materials[m].ranges.y;
   vec3 flux = splatFlux;
+#if TRANSMISSION
   if (isTabulated(m)) {
     vec3 no = texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).xyz;
     flux *= sideWeight(dot(splatNormalMu0.xyz, normalize(no)));
   }
+#endif
   // Layer t's three splines times the flux, column s = spline s's rgb (outerProduct), packed four
   // floats a layer in the order 9 t + 3 s + c. Written out, not through a local array: llvmpipe
   // gives every fragment of a shader with a run-time indexed array a stack copy of it.

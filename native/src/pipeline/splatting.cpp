@@ -1,16 +1,14 @@
 #include "pipeline/splatting.h"
 
 #include <algorithm>
+#include <string>
 
 #include "material/splat_kernel.h"
 
 namespace subsplat {
 
 void Splatting::resize(int width, int height, int levels) {
-  if (!program_) {
-    program_ = gl::makeProgram("splat.vert", "splat.geom", "splat.frag");
-    empty_ = gl::makeVertexArray();
-  }
+  if (!empty_) empty_ = gl::makeVertexArray();
   bool debugReady = !debug_ || (selection_ && levelCopies_.size() == size_t(levels));
   if (width == width_ && height == height_ && levels == int(exitance_.size()) && debugReady) return;
   width_ = height_ = 0;  // as in IrradianceBuffer::resize
@@ -62,6 +60,15 @@ void Splatting::clear() {
 
 uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) { return counts_.read(selectedPerLevel); }
 
+GLuint Splatting::program(bool pairProfiles, bool transmission) {
+  gl::Program& program = programs_[pairProfiles ? 1 : 0][transmission ? 1 : 0];
+  if (!program)
+    program = gl::makeProgram("splat.vert", "splat.geom", "splat.frag",
+                              std::string("#define PAIR_PROFILES ") + (pairProfiles ? "1" : "0") +
+                                  "\n#define TRANSMISSION " + (transmission ? "1" : "0") + "\n");
+  return program.id();
+}
+
 bool Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
                       StageProfiler& profiler, SplatCursor* cursor, SplatBudget* budget) {
@@ -75,7 +82,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
   SplatDepth::beginTest();  // pixels whose surface lies beyond a splat's reach (prepareDepth)
-  GLuint p = program_.id();
+  GLuint p = program(scene.heterogeneous(), scene.tabulated());
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
@@ -94,7 +101,6 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   bindTexture(gl::UNIT_SPLAT_KERNELS, GL_TEXTURE_2D_ARRAY, kernels.kernels);
   bindTexture(gl::UNIT_MINIMAL_RADIUS, GL_TEXTURE_2D, kernels.minimalRadius);
   bindTexture(gl::UNIT_SPLATTING_NORMAL_MATERIAL, GL_TEXTURE_2D, splatting.normalMaterial());
-  glUniform1i(uniform(p, "pairProfiles"), scene.heterogeneous() ? 1 : 0);
   glBindVertexArray(empty_.id());
   GLint total = budget ? samples_.count() : 0;  // only a budget draws ranges of the list
   lastSampleCount_ = total;

@@ -88,7 +88,11 @@ class Splatting {
   gl::Framebuffer selectionFramebuffer_;
   std::vector<gl::Texture> levelCopies_;
   int width_ = 0, height_ = 0;
-  gl::Program program_, accumulateProgram_;
+  // splat.frag's variant for objects of several translucent profiles and TABULATED materials,
+  // compiled on its first use.
+  GLuint program(bool pairProfiles, bool transmission);
+  gl::Program programs_[2][2];
+  gl::Program accumulateProgram_;
   gl::VertexArray empty_;
   std::vector<gl::Texture> exitance_;
   SplatDepth depth_;  // attached to framebuffers_

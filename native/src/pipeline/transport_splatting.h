@@ -73,7 +73,10 @@ class TransportSplatting {
 
  private:
   int width_ = 0, height_ = 0;
-  gl::Program splatProgram_, accumulateProgram_, combineProgram_;
+  // transport_splat.frag's variant with or without TABULATED materials, compiled on its first use.
+  GLuint splatProgram(bool transmission);
+  gl::Program splatPrograms_[2];
+  gl::Program accumulateProgram_, combineProgram_;
   gl::VertexArray empty_;
   gl::Texture basisKernels_;
   std::array<float, kGroups * 3> layerSupport_{};  // R_P units
