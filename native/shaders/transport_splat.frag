@@ -27,14 +27,15 @@ uniform vec2 kernelLog2Range;
 uniform int group;              // 0: splines 0-8, 1: splines 9-17
 uniform float layerSupport[3];  // this group's three layers' supports, R_P units
 uniform float groupSplit;       // R_P units: layer 7 takes d below it in group 0, from it on in group 1
+flat in vec3 layerFootprint[3];  // transport_splat.geom: kernelFootprint of each layer
+flat in vec3 ownFootprint;        // and of the material's own kernel
 layout(location = 0) out vec4 transport[8];
 
 // Layer t's three splines of this group at distance d (K in 1 / R_P^2, ell the range R_P).
 vec3 basisKernel(int t, float d, float ell) {
   float support = layerSupport[t] * ell;
   if (d >= footprintReach * splatFootprint + support) return vec3(0.0);
-  return kernelLookup(basisKernels, kernelTableSize, kernelLog2Range, footprintReach, float(3 * group + t), support, d,
-                      splatFootprint) / (ell * ell);
+  return kernelLookupAt(basisKernels, kernelTableSize, float(3 * group + t), layerFootprint[t], d) / (ell * ell);
 }
 
 void main() {
@@ -68,8 +69,7 @@ void main() {
   float support = materials[m].ranges.x;
   vec3 own = vec3(0.0);
   if (mine && d < footprintReach * splatFootprint + support)
-    own = flux * kernelLookup(splatKernels, kernelTableSize, kernelLog2Range, footprintReach, materials[m].optics.w,
-                              support, d, splatFootprint);
+    own = flux * kernelLookupAt(splatKernels, kernelTableSize, materials[m].optics.w, ownFootprint, d);
   float w = own.r + own.g + own.b;
   transport[7] = w * vec4(1.0, splatNormalMu0.w, splatSlab);
 }

@@ -39,6 +39,13 @@ flat out float splatObject;
 flat out int splatMaterial;
 flat out vec4 splatNormalMu0;
 flat out vec2 splatSlab;
+// The kernels' footprint terms (common.glsl: kernelFootprint), once a splat rather than once a
+// fragment: this group's three layers of splines, each (row, scale, reach), and the material's own
+// kernel's.
+uniform vec2 kernelLog2Range;
+uniform float layerSupport[3];
+flat out vec3 layerFootprint[3];
+flat out vec3 ownFootprint;
 
 // The first knot (scene units) from which every gap is at least knotPixels pixels of `pixel`.
 float smoothFrom(float pixel, float ell) {
@@ -85,6 +92,9 @@ void main() {
     splatMaterial = m;
     splatNormalMu0 = sampleIn[0].normalMu0;
     splatSlab = sampleIn[0].slab;
+    for (int t = 0; t < 3; ++t)
+      layerFootprint[t] = kernelFootprint(kernelLog2Range, footprintReach, layerSupport[t] * ell, footprint);
+    ownFootprint = kernelFootprint(kernelLog2Range, footprintReach, materials[m].ranges.x, footprint);
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 2.0 * far - 1.0, 1.0);
     EmitVertex();
   }
