@@ -138,7 +138,19 @@ vec3 incidenceFactorAt(int m, vec2 g, float mu0) {
 // The entry of a surface point of material m (its first entry) at texture
 // coordinate uv: the nearest texel of the material's profile map, repeating.
 layout(binding = UNIT_PROFILE_MAPS) uniform usamplerBuffer profileMaps;
+// What a program's variant leaves out (gl::makeProgram's defines; pipeline/pass_helpers.h:
+// sceneDefines): TEXTURES 0 where no material reads a texture (Scene::textured), PROFILE_MAPS 0
+// where no material has a SubEdit map (Scene::heterogeneous). Without them, everything is in.
+#ifndef TEXTURES
+#define TEXTURES 1
+#endif
+#ifndef PROFILE_MAPS
+#define PROFILE_MAPS 1
+#endif
 int profileEntry(int m, vec2 uv, bool hasUv) {
+#if !PROFILE_MAPS
+  return m;
+#endif
   if (m < 0) return m;
   uvec4 map = materials[m].profileMap;
   if (map.y == 0u || !hasUv) return m;
@@ -178,12 +190,18 @@ vec3 sampleTexture(uvec4 t, vec4 rowU, vec4 rowV, vec2 uv) {
 }
 // The colour texture of material m at uv (1 without one): opaque albedo, translucent tint.
 vec3 materialColor(int m, vec2 uv) {
+#if !TEXTURES
+  return vec3(1.0);
+#endif
   if (m < 0) return vec3(1.0);
   return sampleTexture(materials[m].colorTexture, materials[m].colorU, materials[m].colorV, uv);
 }
 // The shading normal of material m (material/texture.h: perturbedNormal) from the surface's
 // position and UV derivatives across the pixel (the triangle's tangent frame).
 vec3 mappedNormal(int m, vec3 n, vec2 uv, vec3 dpdx, vec3 dpdy, vec2 duvdx, vec2 duvdy) {
+#if !TEXTURES
+  return n;
+#endif
   if (m < 0 || materials[m].normalTexture.y == 0u) return n;
   float det = duvdx.x * duvdy.y - duvdy.x * duvdx.y;
   if (det == 0.0) return n;

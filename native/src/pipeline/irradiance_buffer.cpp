@@ -7,7 +7,6 @@
 namespace subsplat {
 
 void IrradianceBuffer::resize(int resolution, int levels, bool profileSplits) {
-  if (!program_) program_ = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag");
   if (resolution == resolution_ && levels == levels_ && profileSplits == profileSplits_) return;
   // Old storage goes first (less memory at the peak), and a failed allocation leaves a buffer
   // that the next call allocates again instead of one with mixed sizes.
@@ -131,7 +130,9 @@ void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, co
 
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft) {
   const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
-  GLuint p = program_.id();
+  gl::Program& program = programs_[sceneVariant(scene)];
+  if (!program) program = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag", sceneDefines(scene));
+  GLuint p = program.id();
   if (profileSplits_)
     beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far, zero}, p);
   else

@@ -7,7 +7,6 @@
 namespace subsplat {
 
 void SplattingBuffer::resize(int width, int height, int levels) {
-  if (!program_) program_ = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag");
   if (width == width_ && height == height_ && levels == levels_) return;
   width_ = height_ = levels_ = 0;  // as in IrradianceBuffer::resize
   framebuffer_ = gl::Framebuffer();
@@ -48,7 +47,9 @@ void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
 
 void SplattingBuffer::render(const Scene& scene, const GpuScene& gpu) {
   const glm::vec4 none(0, 0, 0, -1);
-  GLuint p = program_.id();
+  gl::Program& program = programs_[sceneVariant(scene)];
+  if (!program) program = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag", sceneDefines(scene));
+  GLuint p = program.id();
   beginMeshPass(framebuffer_.id(), width_, height_, {none, none, glm::vec4(1.0f), glm::vec4(0.0f)}, p);
   setCameraUniforms(p, scene.camera());
   glm::mat4 viewProj = glm::make_mat4(scene.camera().view_to_clip) *

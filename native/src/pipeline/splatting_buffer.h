@@ -24,7 +24,7 @@ class SplattingBuffer {
 
  private:
   int width_ = 0, height_ = 0, levels_ = 0;
-  gl::Program program_, reduceProgram_;
+  gl::Program programs_[4], reduceProgram_;  // splatting_buffer.frag by sceneVariant, on first use
   gl::Texture positionObject_, normalMaterial_, albedo_, shadingNormal_, depth_;
   gl::Framebuffer framebuffer_;
 };
