@@ -481,12 +481,12 @@ float splatFarDepth(vec3 c, float radius, float depthFar) {
   return clamp((-c.z + radius * 1.001) / depthFar + 1e-6, 0.0, 1.0);
 }
 // A splat kernel table's value (material/splat_kernel.h) for a profile of support `support` in
-// layer `layer` at distance d, for a footprint sigma (splat.frag's kernelAt; transport_splat.frag).
-// Past the table's widest footprint the kernel is self-similar: the widest row at d scaled down,
-// times the scale squared. tableSize: (distance samples, footprint samples); log2Range: the rows'
-// log2(sigma / support) at first and last; reachFactor: the footprint's cut, x sigma.
-// In two parts: what does not depend on d, (row, scale, reach), once a splat (kernelFootprint:
-// transport_splat.geom), then the lookup at d (kernelLookupAt).
+// layer `layer` at distance d, for a footprint sigma (splat.frag's kernelAt; transport_splat.frag),
+// in two parts: what does not depend on d, (row, scale, reach), once a splat (kernelFootprint:
+// transport_splat.geom), then the lookup at d (kernelLookupAt). Past the table's widest footprint
+// the kernel is self-similar: the widest row at d scaled down, times the scale squared. tableSize:
+// (distance samples, footprint samples); log2Range: the rows' log2(sigma / support) at first and
+// last; reachFactor: the footprint's cut, x sigma.
 vec3 kernelFootprint(vec2 log2Range, float reachFactor, float support, float sigma) {
   float row = clamp((log2(sigma / support) - log2Range.x) / (log2Range.y - log2Range.x), 0.0, 1.0);
   float sigmaMax = support * exp2(log2Range.y);
@@ -497,8 +497,4 @@ vec3 kernelFootprint(vec2 log2Range, float reachFactor, float support, float sig
 vec3 kernelLookupAt(sampler2DArray table, vec2 tableSize, float layer, vec3 footprint, float d) {
   vec2 uv = (vec2(sqrt(min(d * footprint.y / footprint.z, 1.0)), footprint.x) * (tableSize - 1.0) + 0.5) / tableSize;
   return texture(table, vec3(uv, layer)).rgb * (footprint.y * footprint.y);
-}
-vec3 kernelLookup(sampler2DArray table, vec2 tableSize, vec2 log2Range, float reachFactor, float layer,
-                  float support, float d, float sigma) {
-  return kernelLookupAt(table, tableSize, layer, kernelFootprint(log2Range, reachFactor, support, sigma), d);
 }

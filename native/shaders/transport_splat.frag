@@ -23,7 +23,6 @@ layout(binding = UNIT_SPLAT_KERNELS) uniform sampler2DArray splatKernels;
 layout(binding = UNIT_BASIS_KERNELS) uniform sampler2DArray basisKernels;
 uniform vec2 kernelTableSize;
 uniform float footprintReach;
-uniform vec2 kernelLog2Range;
 uniform int group;              // 0: splines 0-8, 1: splines 9-17
 uniform float layerSupport[3];  // this group's three layers' supports, R_P units
 uniform float groupSplit;       // R_P units: layer 7 takes d below it in group 0, from it on in group 1

@@ -326,6 +326,14 @@ Program makeProgram(const std::string& vertex, const std::string& geometry,
   return program;
 }
 
+GLuint ProgramVariants::get(std::initializer_list<std::pair<const char*, int>> defines) {
+  std::string key;
+  for (const auto& [name, value] : defines) key += "#define " + std::string(name) + " " + std::to_string(value) + "\n";
+  auto found = programs_.find(key);
+  if (found == programs_.end()) found = programs_.emplace(key, makeProgram(vertex_, geometry_, fragment_, key)).first;
+  return found->second.id();
+}
+
 Program makeComputeProgram(const std::string& compute) {
   Program program(glCreateProgram());
   link(program, {compileShader(GL_COMPUTE_SHADER, compute)}, compute);

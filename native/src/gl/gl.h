@@ -5,7 +5,9 @@
 
 #include <atomic>
 #include <cstdint>
+#include <initializer_list>
 #include <iterator>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -139,9 +141,22 @@ Framebuffer makeLayeredFramebuffer(GLuint arrayTexture, int layers, GLuint depth
 Framebuffer makeFramebufferWithLayers(GLuint texture, GLuint arrayTexture, int first, int layers);
 // Compiles and links shaders by name from the embedded table (shaders/*.glsl);
 // throws with the info log on failure. `defines` ("#define NAME value" lines) go before every
-// stage's source: a variant of the program (Shading::directProgram).
+// stage's source: a variant of the program (ProgramVariants).
 Program makeProgram(const std::string& vertex, const std::string& geometry,
                     const std::string& fragment, const std::string& defines = "");
+
+// A program compiled in variants (makeProgram's defines), each on its first use and kept for the
+// context's life: get({{"NAME", value}, ...}) is the one compiled with "#define NAME value" lines.
+class ProgramVariants {
+ public:
+  ProgramVariants(std::string vertex, std::string geometry, std::string fragment)
+      : vertex_(std::move(vertex)), geometry_(std::move(geometry)), fragment_(std::move(fragment)) {}
+  GLuint get(std::initializer_list<std::pair<const char*, int>> defines);
+
+ private:
+  std::string vertex_, geometry_, fragment_;
+  std::map<std::string, Program> programs_;  // by their defines
+};
 
 Program makeComputeProgram(const std::string& compute);
 // The same for a compute shader given as source (the tests that run common.glsl's functions).

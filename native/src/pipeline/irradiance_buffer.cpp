@@ -130,9 +130,7 @@ void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, co
 
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft) {
   const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
-  gl::Program& program = programs_[sceneVariant(scene)];
-  if (!program) program = gl::makeProgram("mesh.vert", "", "irradiance_buffer.frag", sceneDefines(scene));
-  GLuint p = program.id();
+  GLuint p = sceneVariant(programs_, scene);
   if (profileSplits_)
     beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far, zero}, p);
   else

@@ -11,11 +11,9 @@ namespace subsplat {
 
 GLint uniform(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
 
-std::string sceneDefines(const Scene& scene) {
-  return std::string("#define TEXTURES ") + (scene.textured() ? "1" : "0") + "\n#define PROFILE_MAPS " +
-         (scene.heterogeneous() ? "1" : "0") + "\n";
+GLuint sceneVariant(gl::ProgramVariants& programs, const Scene& scene) {
+  return programs.get({{"TEXTURES", scene.textured()}, {"PROFILE_MAPS", scene.heterogeneous()}});
 }
-int sceneVariant(const Scene& scene) { return (scene.textured() ? 1 : 0) + (scene.heterogeneous() ? 2 : 0); }
 
 void bindTexture(int unit, GLenum target, GLuint texture) {
   glActiveTexture(GLenum(GL_TEXTURE0 + unit));

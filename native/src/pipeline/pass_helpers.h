@@ -3,7 +3,6 @@
 #pragma once
 
 #include <initializer_list>
-#include <string>
 
 #include <glm/glm.hpp>
 
@@ -17,10 +16,8 @@ namespace subsplat {
 
 // Uniform helpers shared by the passes.
 GLint uniform(GLuint program, const char* name);
-// The defines of a mesh pass's variant for the scene (common.glsl: TEXTURES, PROFILE_MAPS), and
-// its index among the four (textured + 2 maps).
-std::string sceneDefines(const Scene& scene);
-int sceneVariant(const Scene& scene);
+// A mesh pass's variant for the scene (common.glsl: TEXTURES, PROFILE_MAPS).
+GLuint sceneVariant(gl::ProgramVariants& programs, const Scene& scene);
 void setLightUniforms(GLuint program, const LightView& view);
 // The view's soft-shadow uniforms (common.glsl: softVisibility).
 void setSoftShadowUniforms(GLuint program, const LightView& view);

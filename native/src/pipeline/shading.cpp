@@ -87,25 +87,6 @@ void Shading::addKeptThrough(const SplattingBuffer& splatting, GLuint transportT
   readThroughDirect_ = true;
 }
 
-GLuint Shading::directProgram(int softShadows, bool transmission) {
-  gl::Program& program = directPrograms_[softShadows][transmission ? 1 : 0];
-  if (!program)
-    program = gl::makeProgram("fullscreen.vert", "", "direct_lighting.frag",
-                              "#define SOFT_SHADOWS " + std::to_string(softShadows) + "\n#define TRANSMISSION " +
-                                  std::to_string(transmission ? 1 : 0) + "\n");
-  return program.id();
-}
-
-GLuint Shading::finalProgram(bool environment, bool transmission, int world) {
-  gl::Program& program = finalPrograms_[environment ? 1 : 0][transmission ? 1 : 0][world];
-  if (!program)
-    program = gl::makeProgram("fullscreen.vert", "", "final_shading.frag",
-                              std::string("#define ENVIRONMENT ") + (environment ? "1" : "0") +
-                                  "\n#define TRANSMISSION " + (transmission ? "1" : "0") + "\n#define WORLD " +
-                                  std::to_string(world) + "\n");
-  return program.id();
-}
-
 void Shading::directLighting(const Scene& scene, const LightView& view, const ShadowInputs& shadow,
                              const SplattingBuffer& splatting, GLuint transportTables, int keptView) {
   bool kept = keptView >= 0 && keptView < throughViews_;
@@ -115,7 +96,7 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
   int softShadows = view.softSize <= 0.0f ? 0 : view.light->type == SS_LIGHT_SUN ? 1 : 2;
-  GLuint p = directProgram(softShadows, scene.tabulated());
+  GLuint p = directPrograms_.get({{"SOFT_SHADOWS", softShadows}, {"TRANSMISSION", scene.tabulated()}});
   glUseProgram(p);
   setLightUniforms(p, view);
   setCameraUniforms(p, scene.camera());
@@ -159,7 +140,9 @@ void Shading::finalShading(const Scene& scene, const SplattingBuffer& splatting,
     glBlendColor(0.0f, 0.0f, 0.0f, weight);
   }
   bool blackWorld = !world.worldHarmonics && world.worldRadiance == glm::vec3(0.0f) && world.worldBelow == glm::vec3(0.0f);
-  GLuint p = finalProgram(environment.texture != 0, scene.tabulated(), world.worldHarmonics ? 2 : blackWorld ? 0 : 1);
+  GLuint p = finalPrograms_.get({{"ENVIRONMENT", environment.texture != 0},
+                                 {"TRANSMISSION", scene.tabulated()},
+                                 {"WORLD", world.worldHarmonics ? 2 : blackWorld ? 0 : 1}});
   glUseProgram(p);
   setCameraUniforms(p, scene.camera());
   glUniform4fv(uniform(p, "background"), 1, background);

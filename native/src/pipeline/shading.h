@@ -54,14 +54,10 @@ class Shading {
 
  private:
   int width_ = 0, height_ = 0;
-  // direct_lighting.frag's variant for a view's shadow filter (0 hard, 1 a sun's soft shadows, 2
-  // another light's) and whether some material is TABULATED, compiled on its first use.
-  GLuint directProgram(int softShadows, bool transmission);
-  gl::Program directPrograms_[3][2];
-  // final_shading.frag's variant for an environment map behind, TABULATED materials and the
-  // world's remainder (0 black, 1 two halves, 2 spherical harmonics).
-  GLuint finalProgram(bool environment, bool transmission, int world);
-  gl::Program finalPrograms_[2][2][3];
+  // direct_lighting.frag by a view's shadow filter and TABULATED materials; final_shading.frag by
+  // the environment, TABULATED materials and the world's remainder (their defines: the shaders).
+  gl::ProgramVariants directPrograms_{"fullscreen.vert", "", "direct_lighting.frag"};
+  gl::ProgramVariants finalPrograms_{"fullscreen.vert", "", "final_shading.frag"};
   gl::Program throughProgram_;
   gl::VertexArray empty_;
   gl::Texture direct_, result_;

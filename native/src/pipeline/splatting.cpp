@@ -1,7 +1,6 @@
 #include "pipeline/splatting.h"
 
 #include <algorithm>
-#include <string>
 
 #include "material/splat_kernel.h"
 
@@ -60,15 +59,6 @@ void Splatting::clear() {
 
 uint64_t Splatting::readSelectionCounts(uint64_t selectedPerLevel[8]) { return counts_.read(selectedPerLevel); }
 
-GLuint Splatting::program(bool pairProfiles, bool transmission) {
-  gl::Program& program = programs_[pairProfiles ? 1 : 0][transmission ? 1 : 0];
-  if (!program)
-    program = gl::makeProgram("splat.vert", "splat.geom", "splat.frag",
-                              std::string("#define PAIR_PROFILES ") + (pairProfiles ? "1" : "0") +
-                                  "\n#define TRANSMISSION " + (transmission ? "1" : "0") + "\n");
-  return program.id();
-}
-
 bool Splatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                       const SplattingBuffer& splatting, const KernelTables& kernels, const Selection& selection,
                       StageProfiler& profiler, SplatCursor* cursor, SplatBudget* budget) {
@@ -82,7 +72,7 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
   SplatDepth::beginTest();  // pixels whose surface lies beyond a splat's reach (prepareDepth)
-  GLuint p = program(scene.heterogeneous(), scene.tabulated());
+  GLuint p = programs_.get({{"PAIR_PROFILES", scene.heterogeneous()}, {"TRANSMISSION", scene.tabulated()}});
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);

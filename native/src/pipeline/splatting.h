@@ -88,10 +88,8 @@ class Splatting {
   gl::Framebuffer selectionFramebuffer_;
   std::vector<gl::Texture> levelCopies_;
   int width_ = 0, height_ = 0;
-  // splat.frag's variant for objects of several translucent profiles and TABULATED materials,
-  // compiled on its first use.
-  GLuint program(bool pairProfiles, bool transmission);
-  gl::Program programs_[2][2];
+  // splat.frag by objects of several translucent profiles and TABULATED materials.
+  gl::ProgramVariants programs_{"splat.vert", "splat.geom", "splat.frag"};
   gl::Program accumulateProgram_;
   gl::VertexArray empty_;
   std::vector<gl::Texture> exitance_;

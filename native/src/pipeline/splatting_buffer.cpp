@@ -47,9 +47,7 @@ void SplattingBuffer::buildHierarchy(const SsCameraDesc& camera) {
 
 void SplattingBuffer::render(const Scene& scene, const GpuScene& gpu) {
   const glm::vec4 none(0, 0, 0, -1);
-  gl::Program& program = programs_[sceneVariant(scene)];
-  if (!program) program = gl::makeProgram("mesh.vert", "", "splatting_buffer.frag", sceneDefines(scene));
-  GLuint p = program.id();
+  GLuint p = sceneVariant(programs_, scene);
   beginMeshPass(framebuffer_.id(), width_, height_, {none, none, glm::vec4(1.0f), glm::vec4(0.0f)}, p);
   setCameraUniforms(p, scene.camera());
   glm::mat4 viewProj = glm::make_mat4(scene.camera().view_to_clip) *

@@ -24,7 +24,8 @@ class SplattingBuffer {
 
  private:
   int width_ = 0, height_ = 0, levels_ = 0;
-  gl::Program programs_[4], reduceProgram_;  // splatting_buffer.frag by sceneVariant, on first use
+  gl::ProgramVariants programs_{"mesh.vert", "", "splatting_buffer.frag"};  // by sceneVariant
+  gl::Program reduceProgram_;
   gl::Texture positionObject_, normalMaterial_, albedo_, shadingNormal_, depth_;
   gl::Framebuffer framebuffer_;
 };

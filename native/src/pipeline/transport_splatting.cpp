@@ -1,7 +1,6 @@
 #include "pipeline/transport_splatting.h"
 
 #include <algorithm>
-#include <string>
 
 #include "material/splat_kernel.h"
 #include "util/error.h"
@@ -131,14 +130,6 @@ uint64_t TransportSplatting::readSelectionCounts(uint64_t selectedPerLevel[8]) {
   return counts_.read(selectedPerLevel);
 }
 
-GLuint TransportSplatting::splatProgram(bool transmission) {
-  gl::Program& program = splatPrograms_[transmission ? 1 : 0];
-  if (!program)
-    program = gl::makeProgram("splat.vert", "transport_splat.geom", "transport_splat.frag",
-                              std::string("#define TRANSMISSION ") + (transmission ? "1" : "0") + "\n");
-  return program.id();
-}
-
 void TransportSplatting::splat(const Scene& scene, const LightView& view, const IrradianceBuffer& irradiance,
                                const SplattingBuffer& splatting, const KernelTables& kernels,
                                const Selection& selection, StageProfiler& profiler) {
@@ -149,7 +140,7 @@ void TransportSplatting::splat(const Scene& scene, const LightView& view, const 
   profiler.begin(SS_STAGE_SPLATTING, StageProfiler::kSelection);
   samples_.build(scene, view, irradiance, splatting, selection, &counts_);  // counts_: zeroed by clear()
   profiler.end();
-  GLuint p = splatProgram(scene.tabulated());
+  GLuint p = splatPrograms_.get({{"TRANSMISSION", scene.tabulated()}});
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);

@@ -73,9 +73,8 @@ class TransportSplatting {
 
  private:
   int width_ = 0, height_ = 0;
-  // transport_splat.frag's variant with or without TABULATED materials, compiled on its first use.
-  GLuint splatProgram(bool transmission);
-  gl::Program splatPrograms_[2];
+  // transport_splat.frag with or without TABULATED materials.
+  gl::ProgramVariants splatPrograms_{"splat.vert", "transport_splat.geom", "transport_splat.frag"};
   gl::Program accumulateProgram_, combineProgram_;
   gl::VertexArray empty_;
   gl::Texture basisKernels_;
