@@ -139,7 +139,7 @@ vec3 incidenceFactorAt(int m, vec2 g, float mu0) {
 // coordinate uv: the nearest texel of the material's profile map, repeating.
 layout(binding = UNIT_PROFILE_MAPS) uniform usamplerBuffer profileMaps;
 // What a program's variant leaves out (gl::makeProgram's defines; pipeline/pass_helpers.h:
-// sceneDefines): TEXTURES 0 where no material reads a texture (Scene::textured), PROFILE_MAPS 0
+// sceneVariant): TEXTURES 0 where no material reads a texture (Scene::textured), PROFILE_MAPS 0
 // where no material has a SubEdit map (Scene::heterogeneous). Without them, everything is in.
 #ifndef TEXTURES
 #define TEXTURES 1

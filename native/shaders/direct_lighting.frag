@@ -7,7 +7,7 @@
 // times the exit's factors and the tint, and the thickness) and throughAngles (mu0, mu, 1), which
 // direct_through.frag turns into light for the materials as they are.
 //
-// Compiled in variants (pipeline/shading.h: Shading::directProgram): SOFT_SHADOWS, how this view's
+// Compiled in variants (pipeline/shading.h: directPrograms_, a gl::ProgramVariants): SOFT_SHADOWS, how this view's
 // shadows are filtered (0 hard, on the shadow map; 1 a sun's soft shadows, on its shadow map; 2 a
 // point, spot or area light's, on the irradiance buffer's resolution), and TRANSMISSION, 1 where
 // some material is TABULATED. llvmpipe runs both sides of a branch whatever the lanes take, so a

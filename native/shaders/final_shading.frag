@@ -1,6 +1,6 @@
 // Eq. 7: L = F_t(w_o) / pi * B(x_o) (times the TABULATED model's exit factor) for translucent surfaces, plus the direct
 // light gathered before; the background where no surface was hit; transparent black on holdouts.
-// Compiled in variants (pipeline/shading.h: Shading::finalProgram), as direct_lighting.frag is:
+// Compiled in variants (pipeline/shading.h: finalPrograms_), as direct_lighting.frag is:
 // ENVIRONMENT 1 where the background is an environment map, TRANSMISSION 1 where some material is
 // TABULATED (its exit factor and the world's H-function), WORLD 0 where the world's remainder is
 // black (nothing of worldMix to add), 1 two halves, 2 spherical harmonics.

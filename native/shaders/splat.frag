@@ -5,7 +5,7 @@
 // (material/transport_model.h): the splat is weighted out between surfaces that
 // face apart (the transmission term carries that light), and alpha gathers
 // the incidence cosine weighted by the exitance, for the exit factor.
-// Compiled in variants (pipeline/splatting.h: Splatting::program), as direct_lighting.frag is:
+// Compiled in variants (pipeline/splatting.h: programs_), as direct_lighting.frag is:
 // PAIR_PROFILES 1 where some object has several translucent profiles, TRANSMISSION 1 where some
 // material is TABULATED; llvmpipe runs a branch's code on every fragment, taken or not.
 flat in vec3 splatPosition;

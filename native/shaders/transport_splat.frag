@@ -7,7 +7,7 @@
 // w times the slab thickness and w times the slab share (common.glsl: slabGeometry), on this group's
 // side of groupSplit. The edit's incidence factors and exit factor take them. TABULATED materials
 // weight everything by sideWeight, as splat.frag; compiled with TRANSMISSION 1 where some material
-// is TABULATED (pipeline/transport_splatting.h: TransportSplatting::splatProgram).
+// is TABULATED (pipeline/transport_splatting.h: splatPrograms_).
 flat in vec2 splatRange;
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
