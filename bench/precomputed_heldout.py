@@ -5,7 +5,8 @@ procedural test set (docs/PRECOMPUTED.md, "Held-out scenes").
     python3 bench/precomputed_heldout.py OUT
 
 OUT holds scenes.txt (subsplat_auto_sets --save's list: index and description) and, per scene,
-test_<i>.json (subsplat_replay --json) or, where the render failed, test_<i>.log.
+<set>_<i>.json (subsplat_replay --json; <set> test or calibration) or, where the render failed,
+<set>_<i>.log.
 """
 import json
 import os
@@ -16,8 +17,11 @@ import sys
 def main():
     out = sys.argv[1]
     descriptions = {}
+    prefix = "test"
     with open(os.path.join(out, "scenes.txt")) as f:
         for line in f:
+            if line.startswith("# calibration set"):
+                prefix = "calibration"
             m = re.match(r"\s*(\d+)\s+(.*\S)", line)
             if m:
                 descriptions[int(m.group(1))] = m.group(2)
@@ -25,9 +29,9 @@ def main():
     print("|---|---|---|---|---|---|---|---|")
     within = measured = failed = 0
     for i in sorted(descriptions):
-        path = os.path.join(out, f"test_{i}.json")
+        path = os.path.join(out, f"{prefix}_{i}.json")
         if not os.path.exists(path):
-            log = os.path.join(out, f"test_{i}.log")
+            log = os.path.join(out, f"{prefix}_{i}.log")
             reason = ""
             if os.path.exists(log):
                 with open(log) as f:

@@ -7,6 +7,8 @@
 # for them. Prints the table (bench/precomputed_heldout.py) and writes OUT/table.md, OUT/scenes.txt and
 # each scene's OUT/test_<i>.json and .log.
 #   bash bench/precomputed_heldout.sh [OUT (default bench/results/precomputed_heldout)] [SCENES (default 12)]
+# SET=calibration runs the calibration set instead (where PRECOMPUTED's rules may be looked at and
+# chosen; the test set is where they are checked).
 # About 15 minutes on 2 cores for 12 scenes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +20,7 @@ mkdir -p "$out"
 cmake --build build -j"$(nproc)" --target subsplat_auto_sets subsplat_replay > /dev/null
 scenes=$(mktemp -d)
 trap 'rm -rf "$scenes"' EXIT
-build/native/subsplat_auto_sets --set test --count "$count" --size 120x90 --save "$scenes" > "$out/scenes.txt"
+build/native/subsplat_auto_sets --set "${SET:-test}" --count "$count" --size 120x90 --save "$scenes" > "$out/scenes.txt"
 for scene in "$scenes"/*.ssscene; do
   name=$(basename "$scene" .ssscene)
   # One scene at a time: a scene that fails is recorded (its log), not the end of the run.

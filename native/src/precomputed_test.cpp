@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "precomputed/atlas.h"
@@ -185,6 +187,34 @@ TEST(PrecomputedAtlas, CoversEachTriangleOnceWithBorders) {
   }
   std::printf("core area %g, mesh area %g, %d charts, %d x %d\n", coreArea, meshArea, atlas.charts, atlas.width, atlas.height);
   EXPECT_NEAR(coreArea / meshArea, 1.0, 1e-3) << "the texels' core parts are the mesh's area";
+  // Each texel's parts (its flux's hats, the near kernels' polygons): their shares sum to one, and
+  // each part lies on its triangle, in the texel's square, with its own chart's triangle.
+  ASSERT_EQ(atlas.partStart.size(), atlas.texels.size() + 1);
+  double worstShare = 0.0;
+  size_t misplaced = 0;
+  for (size_t i = 0; i < atlas.texels.size(); ++i) {
+    const AtlasTexel& t = atlas.texels[i];
+    if (t.area <= 0.0f) {
+      EXPECT_EQ(atlas.partStart[i + 1], atlas.partStart[i]);
+      continue;
+    }
+    const glm::vec2 corner(float(i % size_t(atlas.width)), float(i / size_t(atlas.width)));
+    double share = 0.0;
+    for (uint32_t k = atlas.partStart[i]; k < atlas.partStart[i + 1]; ++k) {
+      const Atlas::SourcePart& part = atlas.parts[k];
+      share += part.share;
+      if (std::abs(part.barycentric.x + part.barycentric.y + part.barycentric.z - 1.0f) > 1e-5f ||
+          glm::any(glm::lessThan(part.barycentric, glm::vec3(0.0f))) || atlas.chartOfTriangle[part.triangle] != t.chart)
+        ++misplaced;
+      for (uint32_t c = 0; c < part.cornerCount; ++c) {
+        glm::vec2 q = atlas.partCorners[part.corners + c] - corner;
+        if (q.x < -1e-4f || q.y < -1e-4f || q.x > 1.0001f || q.y > 1.0001f) ++misplaced;
+      }
+    }
+    worstShare = std::max(worstShare, std::abs(share - 1.0));
+  }
+  EXPECT_LT(worstShare, 1e-4) << "a texel's parts' shares do not sum to one";
+  EXPECT_EQ(misplaced, 0u) << "parts off their triangle, their chart or their texel's square";
   EXPECT_GT(core, 1000u);
   EXPECT_LT(far, 1e-4) << "a core texel's point is " << far << " from where the display shows it";
   EXPECT_EQ(worst, 0u) << "texels within the border of a core texel hold no point";
@@ -443,6 +473,91 @@ TEST_F(Precomputed, ShadowsAreFullsUnderEveryLight) {
   }
 }
 
+// The response of an object to a unit irradiance everywhere, per active texel (the local branch's
+// kernels plus the global branch at its point): what relight computes with every texel's flux its
+// area.
+std::vector<glm::vec3> uniformResponse(const PrecomputedTransport::Object& o) {
+  const Atlas& atlas = o.atlas;
+  const size_t active = o.active.size();
+  std::vector<glm::vec3> share(size_t(o.vertices), glm::vec3(0.0f)), vertex(size_t(o.vertices), glm::vec3(0.0f));
+  for (size_t a = 0; a < active; ++a)
+    for (uint32_t e = o.sourceStart[a]; e < o.sourceStart[a + 1]; ++e) {
+      share[o.sourceVertex[e]] += o.sourceBeta[e] * atlas.texels[o.active[a]].area;
+      vertex[o.sourceVertex[e]] += o.direct[e] * atlas.texels[o.active[a]].area;
+    }
+  for (size_t j = 0; j < size_t(o.vertices); ++j)
+    for (uint32_t k = o.rowStart[j]; k < o.rowStart[j + 1]; ++k) vertex[j] += o.factor[k] * share[o.column[k]];
+  std::vector<glm::vec3> response(active, glm::vec3(0.0f));
+  for (size_t a = 0; a < active; ++a) {
+    for (uint32_t k = o.kernelStart[a]; k < o.kernelStart[a + 1]; ++k)
+      response[a] += o.kernelWeight[k] * atlas.texels[o.active[o.kernelSource[k]]].area;
+    const AtlasTexel& t = atlas.texels[o.active[a]];
+    for (int c = 0; c < 3; ++c) response[a] += t.barycentric[c] * vertex[o.vertexOfCorner[3 * size_t(t.triangle) + size_t(c)]];
+  }
+  return response;
+}
+
+// A chart's edge responds as the surface around it (docs/PRECOMPUTED.md, "Near sources"): under a
+// unit irradiance everywhere, on a sphere whose profile is shorter than a texel (the own texel's
+// part is most of the response), each core texel's response against the mean of the core texels
+// within 1.5 texels of it in 3D. A texel cut by a chart's edge carries a part that is not the
+// square of its area: integrated as that square (before stop 49) such texels were 1.77 % from
+// their neighbours (RMS; whole texels 0.26 %), over each part's own polygon 0.20 % (0.11 %).
+TEST(PrecomputedKernels, AChartsEdgeRespondsAsItsNeighbours) {
+  testing::Sphere sphere(24, 12);
+  Scene scene;
+  scene.setMaterial(0, testing::skinMaterial(100.0f));
+  scene.setMesh(0, sphere.desc(glm::vec3(0.0f), 1.0f, 0));  // 10 cm
+  scene.resolveMaterials();
+  PrecomputedTransport transport;
+  transport.precompute(scene, PrecomputedTransport::kDefaultBytes, {});
+  ASSERT_EQ(transport.objects().size(), 1u);
+  const PrecomputedTransport::Object& o = transport.objects()[0];
+  const Atlas& atlas = o.atlas;
+  const std::vector<glm::vec3> response = uniformResponse(o);
+  std::vector<glm::vec3> position(o.active.size());
+  std::vector<size_t> core;
+  for (size_t a = 0; a < o.active.size(); ++a) {
+    const AtlasTexel& t = atlas.texels[o.active[a]];
+    for (int c = 0; c < 3; ++c) position[a] += t.barycentric[c] * o.vertexPositions[o.vertexOfCorner[3 * size_t(t.triangle) + size_t(c)]];
+    if (t.kind == AtlasTexel::kCore) core.push_back(a);
+  }
+  const float near = 1.5f * atlas.texel, whole = 0.95f * atlas.texel * atlas.texel;
+  std::map<std::tuple<int, int, int>, std::vector<size_t>> cells;  // of side `near`
+  auto cellOf = [&](const glm::vec3& p) {
+    glm::ivec3 c(glm::floor(p / near));
+    return std::make_tuple(c.x, c.y, c.z);
+  };
+  for (size_t a : core) cells[cellOf(position[a])].push_back(a);
+  double sum[2] = {0.0, 0.0};
+  int count[2] = {0, 0};
+  for (size_t a : core) {
+    glm::vec3 mean(0.0f);
+    int n = 0;
+    const auto [cx, cy, cz] = cellOf(position[a]);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          auto it = cells.find(std::make_tuple(cx + dx, cy + dy, cz + dz));
+          if (it == cells.end()) continue;
+          for (size_t b : it->second)
+            if (b != a && glm::length(position[b] - position[a]) < near) mean += response[b], ++n;
+        }
+    if (n < 3) continue;
+    mean /= float(n);
+    const double deviation = double(glm::length(response[a] - mean) / glm::length(mean));
+    const int edge = atlas.texels[o.active[a]].area < whole ? 1 : 0;
+    sum[edge] += deviation * deviation, ++count[edge];
+  }
+  ASSERT_GT(count[0], 100);
+  ASSERT_GT(count[1], 100);
+  const double wholeRms = std::sqrt(sum[0] / count[0]), edgeRms = std::sqrt(sum[1] / count[1]);
+  std::printf("texel %.4f units, %zu core texels: against their neighbours, RMS %.4f whole (%d), %.4f at a chart's edge (%d)\n",
+              double(atlas.texel), core.size(), wholeRms, count[0], edgeRms, count[1]);
+  EXPECT_LT(edgeRms, 0.008) << "the texels at a chart's edge stand out from their neighbours";
+  EXPECT_LT(wholeRms, 0.008);
+}
+
 // Memory (docs/PRECOMPUTED.md, "Memory"): the precomputation holds at most the bytes it is given,
 // counted as Object::bytes counts them, by taking a coarser texel where the kernels' taps (counted
 // before any is computed) would not fit; the objects share the bytes by area. Below what an
@@ -534,10 +649,11 @@ TEST(PrecomputedMemory, AnObjectOfManyChartsTakesWhatTheOthersLeave) {
 // CI's part of bench/precomputed_heldout.sh (docs/PRECOMPUTED.md, "Held-out scenes"): the
 // procedural test set's rod (scene 1: 7 mm of Apple under a spot, on a floor), which none of
 // PRECOMPUTED's rules was chosen on, at the bench's 120 x 90 (at 64 x 48 FULL's own error hides
-// it). It precomputes, relights without precomputing again, its exitance stays within 10 % of
-// REFERENCE's, and it is a failure case kept in view: more than twice FULL's error (the global
-// branch's streaks along the rod's thin triangles; exitance 6.1 % against 0.9 % in the bench). When this last check fails, the thin-triangle fix has landed: run the bench
-// again and update the document.
+// it). It precomputes, relights without precomputing again, and its exitance is within 3.5 % of
+// REFERENCE's: the thin-triangle fix (each texel's flux on the hats of every triangle it covers),
+// the near kernels over each part's polygon and the factors without the profile's peak took it
+// from 6.1 % to 2.3 % (stop 49). It is still a failure case kept in view, over FULL's 0.9 %: when
+// that check fails, PRECOMPUTED has reached FULL here; run the bench again and update the document.
 TEST(PrecomputedHeldOut, TheRodIsFurtherFromReferenceThanFull) {
   constexpr int kWidth = 120, kHeight = 90;  // the bench's size
   testing::EglContext gl;
@@ -568,8 +684,8 @@ TEST(PrecomputedHeldOut, TheRodIsFurtherFromReferenceThanFull) {
   double fullError = testing::relativeRmse(full, reference), error = testing::relativeRmse(relit, reference);
   std::printf("%s: exitance against REFERENCE, FULL %.4f, PRECOMPUTED %.4f\n", scene.description.c_str(), fullError,
               error);
-  EXPECT_LT(error, 0.10) << testing::writeComparison("precomputed_heldout_rod", relit, reference, kWidth, kHeight);
-  EXPECT_GT(error, 2.0 * fullError) << "PRECOMPUTED is now near FULL's error on the held-out rod: update docs/PRECOMPUTED.md";
+  EXPECT_LT(error, 0.035) << testing::writeComparison("precomputed_heldout_rod", relit, reference, kWidth, kHeight);
+  EXPECT_GT(error, fullError) << "PRECOMPUTED is now within FULL's error on the held-out rod: update docs/PRECOMPUTED.md";
   ssReleaseContext(context);
 }
 

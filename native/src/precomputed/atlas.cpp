@@ -48,10 +48,11 @@ bool barycentric2(const glm::vec2& a, const glm::vec2& b, const glm::vec2& c, co
   return true;
 }
 
-// The part of a 2D triangle inside the unit square at (x, y) (Sutherland-Hodgman): its area and
-// centroid.
-float clippedArea(const std::array<glm::vec2, 3>& q, float x, float y, glm::vec2& centroid) {
-  std::vector<glm::vec2> poly(q.begin(), q.end()), next;
+// The part of a 2D triangle inside the unit square at (x, y) (Sutherland-Hodgman): its area,
+// centroid and polygon (convex, at most 7 corners).
+float clippedArea(const std::array<glm::vec2, 3>& q, float x, float y, glm::vec2& centroid, std::vector<glm::vec2>& poly) {
+  std::vector<glm::vec2> next;
+  poly.assign(q.begin(), q.end());
   auto clip = [&](int axis, float bound, bool keepBelow) {
     next.clear();
     for (size_t i = 0; i < poly.size(); ++i) {
@@ -271,6 +272,8 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
   std::vector<float> share(atlas.texels.size(), 0.0f);  // the part of the texel's source triangle
   std::vector<glm::vec3> moment(atlas.texels.size(), glm::vec3(0.0f));  // sum of parts' centroid x area, area
   std::vector<uint32_t> holder(atlas.texels.size(), AtlasTexel::kNone);
+  std::vector<std::pair<size_t, Atlas::SourcePart>> parts;  // by texel index, then as rasterized
+  std::vector<glm::vec2> polygon, polygons;                   // the parts' corners, in their order
   for (size_t ci = 0; ci < charts.size(); ++ci) {
     const ChartBuild& chart = charts[ci];
     const Atlas::Rect& rect = atlas.rects[ci];
@@ -290,13 +293,18 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
           AtlasTexel& texelOut = atlas.texels[index];
           if (core) {
             glm::vec2 centroid;
-            float part = clippedArea(q, float(tx), float(ty), centroid);
+            float part = clippedArea(q, float(tx), float(ty), centroid, polygon);
             glm::vec3 w;
             if (part > 0.0f && barycentric2(q[0], q[1], q[2], centroid, w)) {
               texelOut.area += part * texelArea / cosine;
               texelOut.chart = int(ci);
               moment[index] += glm::vec3(centroid * part, part);
               if (part > share[index]) share[index] = part, texelOut.sourceTriangle = t;
+              glm::vec3 inside = glm::clamp(w, 0.0f, 1.0f);
+              Atlas::SourcePart sourcePart{t, part * texelArea / cosine, inside / (inside.x + inside.y + inside.z)};
+              sourcePart.corners = uint32_t(polygons.size()), sourcePart.cornerCount = uint32_t(polygon.size());
+              for (const glm::vec2& corner : polygon) polygons.push_back(corner + offset);
+              parts.push_back({index, sourcePart});
             }
           }
           glm::vec3 w;
@@ -376,6 +384,19 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
         atlas.texels[here] = filler;
       }
     }
+  }
+  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  atlas.partStart.assign(atlas.texels.size() + 1, 0);
+  for (const auto& part : parts) ++atlas.partStart[part.first + 1];
+  for (size_t i = 0; i < atlas.texels.size(); ++i) atlas.partStart[i + 1] += atlas.partStart[i];
+  atlas.parts.reserve(parts.size());
+  atlas.partCorners.reserve(polygons.size());
+  for (auto& [index, part] : parts) {
+    part.share /= atlas.texels[index].area;
+    const uint32_t first = part.corners;
+    part.corners = uint32_t(atlas.partCorners.size());
+    atlas.partCorners.insert(atlas.partCorners.end(), polygons.begin() + first, polygons.begin() + first + part.cornerCount);
+    atlas.parts.push_back(part);
   }
   return atlas;
 }

@@ -52,6 +52,19 @@ struct Atlas {
   std::vector<glm::vec3> chartU, chartV;  // per chart: its plane's axes (the atlas's x and y), unit
   std::vector<int32_t> chartOfTriangle;   // -1: not in the atlas (opaque, degenerate)
   std::vector<glm::vec2> cornerTexel;     // 3 per triangle: the corners in atlas texels (core)
+  // A texel's source as the parts of the core triangles inside its square, by texel:
+  // parts[partStart[i]] .. parts[partStart[i + 1]]. The hats' integrals over a part are its share
+  // of the texel's area times the barycentric coordinates of its centroid (exact for linear hats);
+  // its polygon (convex, in atlas texels) is what the near kernels integrate the profile over.
+  struct SourcePart {
+    uint32_t triangle = 0;
+    float share = 0.0f;            // of the texel's area (world units), the parts' sum 1
+    glm::vec3 barycentric{0.0f};   // of the part's centroid on its triangle
+    uint32_t corners = 0, cornerCount = 0;  // partCorners[corners] .. [corners + cornerCount]
+  };
+  std::vector<uint32_t> partStart;
+  std::vector<SourcePart> parts;
+  std::vector<glm::vec2> partCorners;  // atlas texels
   const AtlasTexel& at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 

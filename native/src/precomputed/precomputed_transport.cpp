@@ -87,88 +87,160 @@ glm::vec3 transport(const EntryProfile& in, const EntryProfile& out, double r, d
   return k;
 }
 
-// The share of a unit flux spread over a square of side `side` (mm) centred `centre` (mm) away that
-// a profile sends to the origin: the energy of P over the square, by angle, with P's energy within
-// a radius (energyWithin) along each ray: exact but for the angular sum (kSquareAngles).
-constexpr int kSquareAngles = 24;
-double squareEnergy(const RadialProfile& p, glm::dvec2 centre, double side) {
-  double half = 0.5 * side;
-  if (glm::length(centre) < 1e-9 * side) {
-    // The source's own square, centred: by symmetry, an eighth of it, theta in [0, pi / 4].
-    double sum = 0.0;
-    for (int k = 0; k < kSquareAngles; ++k) {
-      double theta = (k + 0.5) / kSquareAngles * (M_PI / 4.0);
-      sum += p.energyWithin(half / std::cos(theta));
-    }
-    return sum / kSquareAngles;  // 8 x (pi / 4) / (2 pi) = 1
+constexpr int kPolygonAngles = 24;  // rays across a polygon seen from outside it; 8 times that around
+
+// The share of a unit flux spread over a convex polygon (corners in mm, relative to the receiver
+// at the origin, either turn) that a profile sends to the origin: the energy of P over it, by angle,
+// with P's energy within a radius (energyWithin) along each ray from where it enters the polygon to
+// where it leaves: exact but for the angular sum.
+template <typename Channels>
+glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t count) {
+  double twice = 0.0;
+  for (size_t k = 0; k < count; ++k) {
+    const glm::dvec2 &a = corners[k], &b = corners[(k + 1) % count];
+    twice += a.x * b.y - b.x * a.y;
   }
-  if (std::abs(centre.x) < half && std::abs(centre.y) < half) {
-    // A square around the origin: every ray, from the origin to where it leaves.
-    const int n = 8 * kSquareAngles;
-    double sum = 0.0;
-    for (int k = 0; k < n; ++k) {
-      double theta = (k + 0.5) / n * 2.0 * M_PI;
-      glm::dvec2 d(std::cos(theta), std::sin(theta));
-      double t = INFINITY;
-      for (int axis = 0; axis < 2; ++axis)
-        if (std::abs(d[axis]) > 1e-15) t = std::min(t, std::max((centre[axis] - half) / d[axis], (centre[axis] + half) / d[axis]));
-      sum += p.energyWithin(t);
-    }
-    return sum / n;
+  if (!(std::abs(twice) > 0.0)) return glm::dvec3(0.0);
+  const double turn = twice > 0.0 ? 1.0 : -1.0;
+  // Inside: n . x <= c for every edge (n outward).
+  glm::dvec2 normal[8];
+  double bound[8];
+  bool inside = true;
+  for (size_t k = 0; k < count; ++k) {
+    const glm::dvec2 &a = corners[k], &b = corners[(k + 1) % count];
+    normal[k] = turn * glm::dvec2(b.y - a.y, a.x - b.x);
+    bound[k] = glm::dot(normal[k], a);
+    if (bound[k] < 0.0) inside = false;
   }
-  // Another square: the rays through it, each from where it enters to where it leaves.
-  double lo = INFINITY, hi = -INFINITY, base = std::atan2(centre.y, centre.x);
-  for (int k = 0; k < 4; ++k) {
-    glm::dvec2 corner = centre + half * glm::dvec2(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0);
-    double a = std::remainder(std::atan2(corner.y, corner.x) - base, 2.0 * M_PI);
-    lo = std::min(lo, a), hi = std::max(hi, a);
-  }
-  double sum = 0.0, step = (hi - lo) / kSquareAngles;
-  for (int k = 0; k < kSquareAngles; ++k) {
-    double theta = base + lo + (k + 0.5) * step;
+  auto through = [&](double theta) {  // P's energy along the ray at angle theta inside the polygon
     glm::dvec2 d(std::cos(theta), std::sin(theta));
     double t0 = 0.0, t1 = INFINITY;
-    for (int axis = 0; axis < 2; ++axis) {
-      if (std::abs(d[axis]) < 1e-15) {
-        if (std::abs(centre[axis]) > half) t1 = -1.0;
+    for (size_t k = 0; k < count; ++k) {
+      double nd = glm::dot(normal[k], d);
+      if (std::abs(nd) < 1e-300) {
+        if (bound[k] < 0.0) return glm::dvec3(0.0);
         continue;
       }
-      double a = (centre[axis] - half) / d[axis], b = (centre[axis] + half) / d[axis];
-      t0 = std::max(t0, std::min(a, b)), t1 = std::min(t1, std::max(a, b));
+      double t = bound[k] / nd;
+      if (nd > 0.0) t1 = std::min(t1, t);
+      else t0 = std::max(t0, t);
     }
-    if (t1 > t0) sum += p.energyWithin(t1) - p.energyWithin(t0);
+    glm::dvec3 e(0.0);
+    if (t1 > t0)
+      for (int c = 0; c < 3; ++c)
+        e[c] = p[size_t(c)]->energyWithin(t1) - (t0 > 0.0 ? p[size_t(c)]->energyWithin(t0) : 0.0);
+    return e;
+  };
+  if (inside) {
+    const int n = 8 * kPolygonAngles;
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < n; ++k) sum += through((k + 0.5) / n * 2.0 * M_PI);
+    return sum / double(n);
   }
+  double lo = INFINITY, hi = -INFINITY, base = std::atan2(corners[0].y, corners[0].x);
+  for (size_t k = 0; k < count; ++k) {
+    double a = std::remainder(std::atan2(corners[k].y, corners[k].x) - base, 2.0 * M_PI);
+    lo = std::min(lo, a), hi = std::max(hi, a);
+  }
+  glm::dvec3 sum(0.0);
+  const double step = (hi - lo) / kPolygonAngles;
+  for (int k = 0; k < kPolygonAngles; ++k) sum += through(base + lo + (k + 0.5) * step);
   return sum * step / (2.0 * M_PI);
 }
 
-// R_d from a source texel of `area` to a receiver at distance r, 1 / unit^2, where `offset` is the
-// receiver's offset in the source's chart plane (scene units): the profile's energy over the
-// source's square (its side the root of its area, the offset scaled so that the centres are r
-// apart) over its area; sqrt(K_in K_out) between different profiles.
-glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, double r, double area, glm::dvec2 offset) {
-  if (!(area > 0.0)) return glm::vec3(0.0f);
-  double planar = glm::length(offset), side = std::sqrt(area);
-  glm::dvec2 centre = planar > 1e-12 * side ? offset * (r / planar) : glm::dvec2(0.0);
-  glm::vec3 k(0.0f);
-  for (int c = 0; c < 3; ++c) {
-    double a = squareEnergy(*in.channel[size_t(c)], centre * in.mmPerUnit, side * in.mmPerUnit) / area;
-    if (&in != &out)
-      a = std::sqrt(std::max(a, 0.0) *
-                    std::max(squareEnergy(*out.channel[size_t(c)], centre * out.mmPerUnit, side * out.mmPerUnit) / area, 0.0));
-    k[c] = float(a);
+// R_d from a source texel to a receiver near it, 1 / unit^2: the profile's energy over each of the
+// texel's parts (Atlas::parts: a part at the edge of a chart is not the square of its area), in the
+// plane of the part's triangle with the receiver projected onto it, over the part's area, weighted
+// by its share of the texel's; sqrt(K_in K_out) between different profiles.
+glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, const Atlas& atlas, size_t texelIndex,
+                        const WorldMesh& wm, const glm::vec3& receiver) {
+  const uint32_t first = atlas.partStart[texelIndex], last = atlas.partStart[texelIndex + 1];
+  constexpr size_t kMaxCorners = 8;
+  const bool pair = &in != &out;
+  glm::dvec3 sums[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
+  glm::dvec2 corners[kMaxCorners], scaled[kMaxCorners];
+  for (uint32_t p = first; p < last; ++p) {
+    const Atlas::SourcePart& part = atlas.parts[p];
+    // The part's corners on its triangle (world units, in the triangle's plane around the receiver).
+    const glm::uvec3 v = wm.triangle(part.triangle);
+    const glm::dvec3 p0(wm.positions[v.x]), p1(wm.positions[v.y]), p2(wm.positions[v.z]);
+    const glm::dvec3 normal = glm::cross(p1 - p0, p2 - p0);
+    if (!(glm::dot(normal, normal) > 0.0)) continue;
+    const glm::dvec3 e1 = glm::normalize(p1 - p0), e2 = glm::normalize(glm::cross(normal, e1));
+    const glm::vec2* t = &atlas.cornerTexel[3 * size_t(part.triangle)];
+    const glm::dvec2 a(t[0]), b(t[1]), c(t[2]);
+    const double d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (!(std::abs(d) > 0.0)) continue;
+    double twice = 0.0;
+    for (uint32_t k = 0; k < part.cornerCount && k < kMaxCorners; ++k) {
+      glm::dvec2 q(atlas.partCorners[part.corners + k]);
+      double w1 = ((q.x - a.x) * (c.y - a.y) - (c.x - a.x) * (q.y - a.y)) / d;
+      double w2 = ((b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y)) / d;
+      glm::dvec3 x = (1.0 - w1 - w2) * p0 + w1 * p1 + w2 * p2 - glm::dvec3(receiver);
+      corners[k] = glm::dvec2(glm::dot(x, e1), glm::dot(x, e2));
+    }
+    const size_t count = std::min<size_t>(part.cornerCount, kMaxCorners);
+    for (size_t k = 0; k < count; ++k) {
+      const glm::dvec2 &u = corners[k], &w = corners[(k + 1) % count];
+      twice += u.x * w.y - w.x * u.y;
+    }
+    const double area = 0.5 * std::abs(twice);  // world units^2
+    if (!(area > 0.0)) continue;
+    for (int side = 0; side < (pair ? 2 : 1); ++side) {
+      const EntryProfile& profile = side == 0 ? in : out;
+      for (size_t k = 0; k < count; ++k) scaled[k] = corners[k] * profile.mmPerUnit;
+      sums[side] += double(part.share) / area * polygonEnergy(profile.channel, scaled, count);
+    }
   }
+  glm::vec3 k(0.0f);
+  for (int ch = 0; ch < 3; ++ch)
+    k[ch] = float(pair ? std::sqrt(std::max(sums[0][ch], 0.0) * std::max(sums[1][ch], 0.0)) : sums[0][ch]);
   return k;
 }
 
-// Sources nearer than this many texels are integrated over their square (nearTransport).
+// Sources nearer than this many texels are integrated over their parts (nearTransport).
 constexpr double kNearTexels = 1.5;
 // The atlas's border: receivers around each chart, for the display's bilinear lookups (the local
 // response gathers its sources in 3D, across charts, so the border carries no light of its own).
 constexpr int kBorderTexels = 3;
 // Vertex pairs nearer than this many local ranges take the hats' mean (Galerkin) factors.
 constexpr double kGalerkinRanges = 1.5;
+// The factors take the profile no nearer than this share of the local range: its peak is the
+// local kernels' (which hold R_d less the global response, so the sum within the local range is
+// the same), and the vertices' exitance, interpolated over triangles, carries only the smooth
+// remainder. With the peak in them, hats that overlap (neighbouring vertices of long triangles)
+// brought a short profile's near light to receivers past the local range: stripes along a rod's
+// vertex lines (docs/PRECOMPUTED.md, "Held-out scenes"). Chosen on the calibration set.
+constexpr double kFactorNearest = 0.25;
 // The direct weights' least squares: ridge of this share of the normal matrix's mean diagonal.
 constexpr double kRidge = 0.05;
+
+// Solves m x = b in place for `columns` right-hand sides (b: column after column, n each), m
+// symmetric positive definite n x n, row by row (Cholesky; m is overwritten).
+void solveSymmetric(std::vector<double>& m, size_t n, std::vector<double>& b, int columns) {
+  for (size_t j = 0; j < n; ++j) {
+    double d = m[j * n + j];
+    for (size_t k = 0; k < j; ++k) d -= m[j * n + k] * m[j * n + k];
+    d = std::sqrt(std::max(d, 1e-300));
+    m[j * n + j] = d;
+    for (size_t i = j + 1; i < n; ++i) {
+      double v = m[i * n + j];
+      for (size_t k = 0; k < j; ++k) v -= m[i * n + k] * m[j * n + k];
+      m[i * n + j] = v / d;
+    }
+  }
+  for (int c = 0; c < columns; ++c) {
+    double* x = b.data() + size_t(c) * n;
+    for (size_t i = 0; i < n; ++i) {  // L y = b
+      for (size_t k = 0; k < i; ++k) x[i] -= m[i * n + k] * x[k];
+      x[i] /= m[i * n + i];
+    }
+    for (size_t i = n; i-- > 0;) {  // L^T x = y
+      for (size_t k = i + 1; k < n; ++k) x[i] -= m[k * n + i] * x[k];
+      x[i] /= m[i * n + i];
+    }
+  }
+}
 
 uint64_t fnv(uint64_t h, const void* data, size_t bytes) {
   const unsigned char* p = static_cast<const unsigned char*>(data);
@@ -176,7 +248,8 @@ uint64_t fnv(uint64_t h, const void* data, size_t bytes) {
   return h;
 }
 
-// A texel's point: position, normal (unit), profile entry, area, its triangle's vertices and weights.
+// A texel's point: position, normal (unit), profile entry, area, its triangle's vertices and weights
+// (a receiver's); a source's vertices are Object::sourceVertex[first] .. [first + count].
 struct TexelPoint {
   glm::vec3 position{0.0f}, normal{0.0f}, geometricNormal{0.0f};
   uint32_t triangle = 0, base = 0, entry = 0;
@@ -184,6 +257,8 @@ struct TexelPoint {
   glm::uvec3 vertices{0u};
   glm::vec3 beta{0.0f};
   glm::vec2 uv{0.0f};
+  uint32_t first = 0, count = 0;
+  uint32_t texel = 0;  // its atlas texel
 };
 
 // Points sorted into a uniform grid, for the neighbours within a radius.
@@ -242,15 +317,17 @@ namespace {
 size_t atlasBytes(const Atlas& atlas) {
   return atlas.texels.size() * sizeof(AtlasTexel) + atlas.rects.size() * sizeof(Atlas::Rect) +
          (atlas.chartU.size() + atlas.chartV.size()) * sizeof(glm::vec3) + atlas.chartOfTriangle.size() * 4 +
-         atlas.cornerTexel.size() * sizeof(glm::vec2);
+         atlas.cornerTexel.size() * sizeof(glm::vec2) + atlas.partStart.size() * 4 +
+         atlas.parts.size() * sizeof(Atlas::SourcePart);
 }
 
 // What an object holds besides its kernels' taps and its factors, with `active` texels: the atlas,
-// per texel its index, local response and (active ones) kernel start, index and direct weights, per
-// vertex its position and global response, per triangle corner its vertex.
-size_t recordBytes(const Atlas& atlas, size_t active, size_t vertices, size_t corners) {
-  return atlasBytes(atlas) + atlas.texels.size() * (4 + sizeof(glm::vec4)) +
-         active * (4 + 4 + sizeof(std::array<glm::vec3, 3>)) + 4 + vertices * (sizeof(glm::vec3) + sizeof(glm::vec4)) +
+// per texel its index, local response and (active ones) kernel start, index and source start, per
+// source vertex its index, share and direct weight, per vertex its position and global response, per
+// triangle corner its vertex.
+size_t recordBytes(const Atlas& atlas, size_t active, size_t sourceVertices, size_t vertices, size_t corners) {
+  return atlasBytes(atlas) + atlas.texels.size() * (4 + sizeof(glm::vec4)) + active * (4 + 4 + 4) + 8 +
+         sourceVertices * (4 + 4 + sizeof(glm::vec3)) + vertices * (sizeof(glm::vec3) + sizeof(glm::vec4)) +
          corners * 4;
 }
 
@@ -258,7 +335,8 @@ size_t recordBytes(const Atlas& atlas, size_t active, size_t vertices, size_t co
 
 size_t PrecomputedTransport::Object::bytes() const {
   return kernelSource.size() * 4 + kernelWeight.size() * sizeof(glm::vec3) + factor.size() * sizeof(glm::vec3) +
-         column.size() * 4 + rowStart.size() * 4 + recordBytes(atlas, active.size(), vertexPositions.size(), vertexOfCorner.size());
+         column.size() * 4 + rowStart.size() * 4 +
+         recordBytes(atlas, active.size(), sourceVertex.size(), vertexPositions.size(), vertexOfCorner.size());
 }
 
 size_t PrecomputedTransport::bytes() const {
@@ -538,6 +616,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       const int V = object.vertices;
       PointGrid grid(object.vertexPositions, support);
       const double galerkinReach = object.size.localRange;
+      const double nearest = kFactorNearest * galerkinReach;
       std::vector<std::vector<std::pair<uint32_t, glm::vec3>>> rows(static_cast<size_t>(V));
       parallelFor(size_t(V), 64, [&](size_t begin, size_t end) {
         for (size_t j = begin; j < end; ++j) {
@@ -553,7 +632,7 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
             if (r < kGalerkinRanges * galerkinReach) {  // the hats' mean (convex profiles: interpolation overshoots)
               for (const auto& a : sourceSamples[i])
                 for (const auto& b : receiverSamples[j])
-                  f += a.w * b.w * transport(in, out, double(glm::length(a.p - b.p)), vertexArea[i] / 6.0);
+                  f += a.w * b.w * transport(in, out, std::max(double(glm::length(a.p - b.p)), nearest), vertexArea[i] / 6.0);
             } else {
               f = transport(in, out, r, vertexArea[i]);
             }
@@ -590,17 +669,18 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       return it != last && *it == i ? object.factor[size_t(it - object.column.begin())] : glm::vec3(0.0f);
     };
     // The global response at receiver q to unit flux at source s without the direct part, and the
-    // direct part's basis: at q, the weights of s's three vertices.
-    auto globalAt = [&](const TexelPoint& s, const TexelPoint& q, glm::vec3& g0, glm::vec3& basis) {
-      g0 = glm::vec3(0.0f), basis = glm::vec3(0.0f);
+    // direct part's basis: at q, the weights of s's vertices (count of them).
+    auto globalAt = [&](const TexelPoint& s, const TexelPoint& q, glm::vec3& g0, double* basis) {
+      g0 = glm::vec3(0.0f);
+      std::fill(basis, basis + s.count, 0.0);
       for (int jj = 0; jj < 3; ++jj) {
         uint32_t j = q.vertices[jj];
         float bj = q.beta[jj];
         if (bj == 0.0f) continue;
-        for (int ii = 0; ii < 3; ++ii) {
-          uint32_t i = s.vertices[ii];
-          if (i == j) basis[ii] += bj;
-          else if (s.beta[ii] != 0.0f) g0 += bj * s.beta[ii] * factorOf(i, j);
+        for (uint32_t e = 0; e < s.count; ++e) {
+          uint32_t i = object.sourceVertex[s.first + e];
+          if (i == j) basis[e] += double(bj);
+          else g0 += bj * object.sourceBeta[s.first + e] * factorOf(i, j);
         }
       }
     };
@@ -654,6 +734,25 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
           object.active.push_back(uint32_t(i));
         }
       active = object.active.size();
+      // Each core texel's vertices: the hats integrated over its parts, merged by vertex.
+      object.sourceStart.assign(active + 1, 0);
+      object.sourceVertex.clear(), object.sourceBeta.clear();
+      for (size_t a = 0; a < active; ++a) {
+        const size_t texelIndex = object.active[a], first = object.sourceVertex.size();
+        for (uint32_t p = atlas.partStart[texelIndex]; p < atlas.partStart[texelIndex + 1]; ++p) {
+          const Atlas::SourcePart& part = atlas.parts[p];
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t vertex = object.vertexOfCorner[3 * size_t(part.triangle) + size_t(k)];
+            const float beta = part.share * part.barycentric[k];
+            if (!(beta > 0.0f)) continue;
+            size_t e = first;
+            while (e < object.sourceVertex.size() && object.sourceVertex[e] != vertex) ++e;
+            if (e == object.sourceVertex.size()) object.sourceVertex.push_back(vertex), object.sourceBeta.push_back(0.0f);
+            object.sourceBeta[e] += beta;
+          }
+        }
+        object.sourceStart[a + 1] = uint32_t(object.sourceVertex.size());
+      }
       // Each active texel as a receiver (points: its centre) and as a source (sources: its core
       // part's centroid and area; area 0 where it has none).
       auto pointOn = [&](uint32_t triangle, const glm::vec3& w, float area) {
@@ -677,6 +776,8 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         const AtlasTexel& tx = atlas.texels[object.active[a]];
         points[a] = pointOn(tx.triangle, tx.barycentric, 0.0f);
         if (tx.area > 0.0f) sources[a] = pointOn(tx.sourceTriangle, tx.sourceBarycentric, tx.area);
+        sources[a].first = object.sourceStart[a], sources[a].count = object.sourceStart[a + 1] - object.sourceStart[a];
+        sources[a].texel = object.active[a];
       }
       // The core texels (the sources: each surface point once) on a grid; the local range.
       corePositions.clear(), coreActive.clear();
@@ -692,7 +793,8 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       uint64_t tapCount = 0;
       for (uint32_t c : counts) tapCount += c;
       const size_t bytes = size_t(double(tapCount) * kTapBytes) +
-                           recordBytes(atlas, active, object.vertexPositions.size(), object.vertexOfCorner.size());
+                           recordBytes(atlas, active, object.sourceVertex.size(), object.vertexPositions.size(),
+                                       object.vertexOfCorner.size());
       if (bytes <= atlasLeft) break;
       if (fit >= 16 && widen()) {
         fit = -1;
@@ -712,15 +814,13 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       object.size.radius = std::clamp(int(std::ceil(object.size.localRange / object.size.texel - 1e-6f)), kMinRadius,
                                       kMaxRadius);
     }
-    // R_d from source texel s to receiver t: over the source's square when they are within
+    // R_d from source texel s to receiver t: over the source's parts when they are within
     // kNearTexels, else its mean over the source's disk or ring (cellMean).
-    auto local = [&](const TexelPoint& s, int chart, const TexelPoint& t, double r) {
+    auto local = [&](const TexelPoint& s, const TexelPoint& t, double r) {
       const EntryProfile& in = profiles[s.entry];
       glm::vec3 k;
       if (r < kNearTexels * texel) {
-        glm::vec3 d = t.position - s.position;
-        glm::dvec2 offset(glm::dot(d, atlas.chartU[size_t(chart)]), glm::dot(d, atlas.chartV[size_t(chart)]));
-        k = nearTransport(in, profiles[t.entry], r, s.area, offset);
+        k = nearTransport(in, profiles[t.entry], atlas, s.texel, wm, t.position);
       } else {
         k = transport(in, profiles[t.entry], r, s.area);
       }
@@ -728,32 +828,35 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
     };
 
     // Direct weights: fitted on the receivers just past the local range (within ringWidth).
-    object.direct.assign(active, {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f)});
+    object.direct.assign(object.sourceVertex.size(), glm::vec3(0.0f));
     parallelFor(globalBranch ? coreActive.size() : 0, 256, [&](size_t begin, size_t end) {
+      std::vector<double> m, rhs, basis;
       for (size_t ci = begin; ci < end; ++ci) {
         size_t a = coreActive[ci];
         const TexelPoint& s = sources[a];
-        int chart = atlas.texels[object.active[a]].chart;
-        glm::dmat3 m(0.0);
-        glm::dvec3 rhs[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+        const size_t n = s.count;
+        if (n == 0) continue;
+        m.assign(n * n, 0.0), rhs.assign(3 * n, 0.0), basis.assign(n, 0.0);
         cores->within(s.position, reach + ringWidth, [&](uint32_t qi, double r) {
           if (r < reach) return;
           const TexelPoint& q = sources[coreActive[qi]];  // (a receiver there)
-          glm::vec3 g0, basis;
-          globalAt(s, q, g0, basis);
-          if (basis == glm::vec3(0.0f)) return;
-          glm::vec3 target = local(s, chart, q, r);
-          glm::dvec3 bd(basis);
-          m += glm::outerProduct(bd, bd);
-          for (int c = 0; c < 3; ++c) rhs[c] += bd * double(target[c] - g0[c]);
+          glm::vec3 g0;
+          globalAt(s, q, g0, basis.data());
+          if (std::all_of(basis.begin(), basis.end(), [](double b) { return b == 0.0; })) return;
+          glm::vec3 target = local(s, q, r);
+          for (size_t x = 0; x < n; ++x) {
+            if (basis[x] == 0.0) continue;
+            for (size_t y = 0; y < n; ++y) m[x * n + y] += basis[x] * basis[y];
+            for (int c = 0; c < 3; ++c) rhs[size_t(c) * n + x] += basis[x] * double(target[c] - g0[c]);
+          }
         });
-        double trace = m[0][0] + m[1][1] + m[2][2];
+        double trace = 0.0;
+        for (size_t x = 0; x < n; ++x) trace += m[x * n + x];
         if (!(trace > 0.0)) continue;
-        glm::dmat3 inverse = glm::inverse(m + glm::dmat3(kRidge * trace / 3.0));
-        for (int c = 0; c < 3; ++c) {
-          glm::dvec3 w = inverse * rhs[c];
-          for (int k = 0; k < 3; ++k) object.direct[a][size_t(k)][c] = float(w[k]);
-        }
+        for (size_t x = 0; x < n; ++x) m[x * n + x] += kRidge * trace / double(n);
+        solveSymmetric(m, n, rhs, 3);
+        for (size_t x = 0; x < n; ++x)
+          for (int c = 0; c < 3; ++c) object.direct[s.first + x][c] = float(rhs[size_t(c) * n + x]);
       }
     }, progress, 0.2, 0.2);
 
@@ -782,20 +885,16 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         cores->within(t.position, reach, [&](uint32_t si, double r) {
           size_t sa = coreActive[si];
           const TexelPoint& s = sources[sa];
-          glm::vec3 k = local(s, atlas.texels[object.active[sa]].chart, t, r);
-          // globalAt(s, t), with the scattered rows.
-          glm::vec3 g0(0.0f), basis(0.0f);
+          glm::vec3 k = local(s, t, r);
+          // globalAt(s, t) with the scattered rows, and the direct part.
           for (int jj = 0; jj < 3; ++jj) {
             float bj = t.beta[jj];
             if (bj == 0.0f) continue;
-            for (int ii = 0; ii < 3; ++ii) {
-              uint32_t i = s.vertices[ii];
-              if (i == t.vertices[jj]) basis[ii] += bj;
-              else g0 += bj * s.beta[ii] * into[i][size_t(jj)];
+            for (uint32_t e = s.first; e < s.first + s.count; ++e) {
+              uint32_t i = object.sourceVertex[e];
+              k -= bj * (i == t.vertices[jj] ? object.direct[e] : object.sourceBeta[e] * into[i][size_t(jj)]);
             }
           }
-          const auto& w = object.direct[sa];
-          k -= g0 + basis.x * w[0] + basis.y * w[1] + basis.z * w[2];
           list.emplace_back(uint32_t(sa), k);
         });
       }
@@ -864,17 +963,14 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
     const size_t V = size_t(object.vertices);
     std::vector<glm::vec3> share(V, glm::vec3(0.0f)), shareMu0(V, glm::vec3(0.0f));
     std::vector<glm::vec3> direct(V, glm::vec3(0.0f)), directMu0(V, glm::vec3(0.0f));
-    for (size_t a = 0; a < active; ++a) {
-      const AtlasTexel& tx = atlas.texels[object.active[a]];
-      if (tx.area <= 0.0f) continue;
-      for (int k = 0; k < 3; ++k) {
-        uint32_t vertex = object.vertexOfCorner[3 * size_t(tx.sourceTriangle) + size_t(k)];
-        share[vertex] += tx.sourceBarycentric[k] * flux[a];
-        shareMu0[vertex] += tx.sourceBarycentric[k] * fluxMu0[a];
-        direct[vertex] += object.direct[a][size_t(k)] * flux[a];
-        directMu0[vertex] += object.direct[a][size_t(k)] * fluxMu0[a];
+    for (size_t a = 0; a < active; ++a)
+      for (uint32_t e = object.sourceStart[a]; e < object.sourceStart[a + 1]; ++e) {
+        const uint32_t vertex = object.sourceVertex[e];
+        share[vertex] += object.sourceBeta[e] * flux[a];
+        shareMu0[vertex] += object.sourceBeta[e] * fluxMu0[a];
+        direct[vertex] += object.direct[e] * flux[a];
+        directMu0[vertex] += object.direct[e] * fluxMu0[a];
       }
-    }
     // 3. The global response at the vertices.
     parallelFor(V, 256, [&](size_t begin, size_t end) {
       for (size_t j = begin; j < end; ++j) {

@@ -9,15 +9,16 @@
 //     factors F_ij for i != j (the diagonal is zero): the hats' mean of R_d for near pairs
 //     (Galerkin), R_d between the vertices beyond, kept where F_ij A_j carries at least
 //     kFactorThreshold of a unit flux (a sparse matrix by receiver);
-//   - direct weights (Section 5.4): per source texel t, per channel, w_v(t) for its triangle's three
-//     vertices, fitted by least squares so that the global response (F plus the direct part
+//   - direct weights (Section 5.4): per source texel t, per channel, w_v(t) for the vertices of the
+//     triangles its core part lies on, fitted by least squares so that the global response (F plus the direct part
 //     D_v = sum_t w_v(t) Phi(t), both linearly interpolated) matches R_d on the receivers just
 //     past the local range;
 //   - local response: per receiving texel t, a kernel over the source texels s within the local
 //     range in 3D (across charts), K(t <- s) = R_d(x_s, x_t) - (the global response at x_t to unit
 //     flux at s): within the local range the sum is R_d, beyond it the global response alone.
 // A frame: the flux Phi(t) = E dA of every texel (REFERENCE's entering light: shadow rays, Fresnel,
-// the TABULATED incidence factor, the tint), its vertex shares Phi_i = sum_t beta_i(t) Phi(t),
+// the TABULATED incidence factor, the tint), its vertex shares Phi_i = sum_t beta_i(t) Phi(t) (beta_i(t):
+// the hat of vertex i integrated over t's core part, over t's area),
 // B_j = sum_i F_ij Phi_i + D_j at the vertices, and B_l(t) = sum_s K(t <- s) Phi(s) in the atlas;
 // B(x) = B_l(x) + sum_j beta_j(x) B_j. Alpha carries the TABULATED model's exitance-weighted
 // incidence cosine (the same operators applied to the flux times mu0, summed over the channels).
@@ -91,7 +92,12 @@ class PrecomputedTransport {
     std::vector<glm::vec3> vertexPositions;
     std::vector<uint32_t> rowStart, column;  // F by receiving vertex: sources, ascending
     std::vector<glm::vec3> factor;
-    std::vector<std::array<glm::vec3, 3>> direct;  // per active texel: w of its triangle's vertices
+    // Per active texel, the vertices its flux goes to (the hats over its core part, Atlas::parts):
+    // sourceVertex[sourceStart[a]] .. [sourceStart[a + 1]], with the hats' shares beta_i(t) and the
+    // direct weights w_i(t).
+    std::vector<uint32_t> sourceStart, sourceVertex;
+    std::vector<float> sourceBeta;
+    std::vector<glm::vec3> direct;
     size_t factors() const { return column.size(); }
     double precomputeMs = 0.0;  // wall time of this object's precomputation
     size_t bytes() const;
