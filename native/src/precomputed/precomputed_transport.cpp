@@ -94,7 +94,7 @@ constexpr int kPolygonAngles = 24;  // rays across a polygon seen from outside i
 // with P's energy within a radius (energyWithin) along each ray from where it enters the polygon to
 // where it leaves: exact but for the angular sum.
 template <typename Channels>
-glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t count) {
+glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t count, double height) {
   double twice = 0.0;
   for (size_t k = 0; k < count; ++k) {
     const glm::dvec2 &a = corners[k], &b = corners[(k + 1) % count];
@@ -112,6 +112,7 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
     bound[k] = glm::dot(normal[k], a);
     if (bound[k] < 0.0) inside = false;
   }
+  const double h2 = height * height;
   auto through = [&](double theta) {  // P's energy along the ray at angle theta inside the polygon
     glm::dvec2 d(std::cos(theta), std::sin(theta));
     double t0 = 0.0, t1 = INFINITY;
@@ -128,7 +129,8 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
     glm::dvec3 e(0.0);
     if (t1 > t0)
       for (int c = 0; c < 3; ++c)
-        e[c] = p[size_t(c)]->energyWithin(t1) - (t0 > 0.0 ? p[size_t(c)]->energyWithin(t0) : 0.0);
+        e[c] = p[size_t(c)]->energyWithin(std::sqrt(t1 * t1 + h2)) -
+               (t0 > 0.0 || h2 > 0.0 ? p[size_t(c)]->energyWithin(std::sqrt(t0 * t0 + h2)) : 0.0);
     return e;
   };
   if (inside) {
@@ -150,8 +152,9 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
 
 // R_d from a source texel to a receiver near it, 1 / unit^2: the profile's energy over each of the
 // texel's parts (Atlas::parts: a part at the edge of a chart is not the square of its area), in the
-// plane of the part's triangle with the receiver projected onto it, over the part's area, weighted
-// by its share of the texel's; sqrt(K_in K_out) between different profiles.
+// plane of the part's triangle, the profile at the 3D distance from the receiver (its height above
+// the plane taken into each ray's distances), over the part's area, weighted by its share of the
+// texel's; sqrt(K_in K_out) between different profiles.
 glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, const Atlas& atlas, size_t texelIndex,
                         const WorldMesh& wm, const glm::vec3& receiver) {
   const uint32_t first = atlas.partStart[texelIndex], last = atlas.partStart[texelIndex + 1];
@@ -171,13 +174,14 @@ glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, const A
     const glm::dvec2 a(t[0]), b(t[1]), c(t[2]);
     const double d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
     if (!(std::abs(d) > 0.0)) continue;
-    double twice = 0.0;
+    double twice = 0.0, height = 0.0;  // the receiver's above the plane
     for (uint32_t k = 0; k < part.cornerCount && k < kMaxCorners; ++k) {
       glm::dvec2 q(atlas.partCorners[part.corners + k]);
       double w1 = ((q.x - a.x) * (c.y - a.y) - (c.x - a.x) * (q.y - a.y)) / d;
       double w2 = ((b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y)) / d;
       glm::dvec3 x = (1.0 - w1 - w2) * p0 + w1 * p1 + w2 * p2 - glm::dvec3(receiver);
       corners[k] = glm::dvec2(glm::dot(x, e1), glm::dot(x, e2));
+      if (k == 0) height = std::abs(glm::dot(x, glm::normalize(normal)));
     }
     const size_t count = std::min<size_t>(part.cornerCount, kMaxCorners);
     for (size_t k = 0; k < count; ++k) {
@@ -189,7 +193,7 @@ glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, const A
     for (int side = 0; side < (pair ? 2 : 1); ++side) {
       const EntryProfile& profile = side == 0 ? in : out;
       for (size_t k = 0; k < count; ++k) scaled[k] = corners[k] * profile.mmPerUnit;
-      sums[side] += double(part.share) / area * polygonEnergy(profile.channel, scaled, count);
+      sums[side] += double(part.share) / area * polygonEnergy(profile.channel, scaled, count, height * profile.mmPerUnit);
     }
   }
   glm::vec3 k(0.0f);
@@ -939,24 +943,30 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
     const Mesh& mesh = *wm.mesh;
     const Atlas& atlas = object.atlas;
     const size_t active = object.active.size();
-    // 1. The illumination map: the flux through every texel (and times mu0).
+    // 1. The illumination map: the flux through every texel (and times mu0), the sum of its parts'.
     std::vector<glm::vec3> flux(active, glm::vec3(0.0f)), fluxMu0(active, glm::vec3(0.0f));
     parallelFor(active, 256, [&](size_t begin, size_t end) {
       for (size_t a = begin; a < end; ++a) {
         const AtlasTexel& tx = atlas.texels[object.active[a]];
         if (tx.area <= 0.0f) continue;
-        glm::uvec3 v = wm.triangle(tx.sourceTriangle);
-        glm::vec3 w = tx.sourceBarycentric;
-        glm::vec3 p = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
-        glm::vec3 ng = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
-        glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
-        n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
-        uint32_t base = (*wm.materials)[tx.sourceTriangle];
-        glm::vec2 uv(0.0f);
-        if (mesh.hasUvs()) uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
-        uint32_t entry = uint32_t(entries[base].entryAt(mesh.hasUvs() ? &uv : nullptr));
-        Entering in = light.at(uint32_t(object.rayMesh), tx.sourceTriangle, p, ng, n, tx.area, base, entry, uv);
-        flux[a] = in.flux, fluxMu0[a] = in.fluxMu0;
+        // At each part's centroid, on its own triangle: a texel across a bend or a shadow's edge
+        // is not lit as the one point at its centroid.
+        const size_t texelIndex = object.active[a];
+        for (uint32_t pi = atlas.partStart[texelIndex]; pi < atlas.partStart[texelIndex + 1]; ++pi) {
+          const Atlas::SourcePart& part = atlas.parts[pi];
+          const glm::uvec3 v = wm.triangle(part.triangle);
+          const glm::vec3 w = part.barycentric;
+          const glm::vec3 p = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+          const glm::vec3 ng = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+          glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
+          n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
+          const uint32_t base = (*wm.materials)[part.triangle];
+          glm::vec2 uv(0.0f);
+          if (mesh.hasUvs()) uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
+          const uint32_t entry = uint32_t(entries[base].entryAt(mesh.hasUvs() ? &uv : nullptr));
+          const Entering in = light.at(uint32_t(object.rayMesh), part.triangle, p, ng, n, tx.area * part.share, base, entry, uv);
+          flux[a] += in.flux, fluxMu0[a] += in.fluxMu0;
+        }
       }
     }, progress, 0.0, 0.5);
     // 2. Vertex shares and the direct part, from the core texels.
