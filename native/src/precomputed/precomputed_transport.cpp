@@ -322,7 +322,7 @@ size_t atlasBytes(const Atlas& atlas) {
   return atlas.texels.size() * sizeof(AtlasTexel) + atlas.rects.size() * sizeof(Atlas::Rect) +
          (atlas.chartU.size() + atlas.chartV.size()) * sizeof(glm::vec3) + atlas.chartOfTriangle.size() * 4 +
          atlas.cornerTexel.size() * sizeof(glm::vec2) + atlas.partStart.size() * 4 +
-         atlas.parts.size() * sizeof(Atlas::SourcePart);
+         atlas.parts.size() * sizeof(Atlas::SourcePart) + atlas.partCorners.size() * sizeof(glm::vec2);
 }
 
 // What an object holds besides its kernels' taps and its factors, with `active` texels: the atlas,
