@@ -259,7 +259,6 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
   atlas.width = width;
   atlas.height = std::max(y + shelf, 1);
   atlas.charts = int(charts.size());
-  for (const ChartBuild& c : charts) atlas.chartU.push_back(c.u), atlas.chartV.push_back(c.v);
   if (double(atlas.width) * atlas.height > double(maxTexels))
     fail(SS_LIMIT_EXCEEDED, "PRECOMPUTED: the atlas needs " + std::to_string(atlas.width) + " x " +
                                 std::to_string(atlas.height) + " texels, more than " + std::to_string(maxTexels) +

@@ -49,7 +49,6 @@ struct Atlas {
     glm::ivec2 origin{0}, size{0};  // the chart's rectangle, border included
   };
   std::vector<Rect> rects;                // per chart
-  std::vector<glm::vec3> chartU, chartV;  // per chart: its plane's axes (the atlas's x and y), unit
   std::vector<int32_t> chartOfTriangle;   // -1: not in the atlas (opaque, degenerate)
   std::vector<glm::vec2> cornerTexel;     // 3 per triangle: the corners in atlas texels (core)
   // A texel's source as the parts of the core triangles inside its square, by texel:

@@ -265,6 +265,27 @@ struct TexelPoint {
   uint32_t texel = 0;  // its atlas texel
 };
 
+// A point of a triangle of a world mesh at barycentric coordinates w: position, geometric and
+// shading normals (unit), the triangle's material, the UV and the profile entry there.
+struct MeshPoint {
+  glm::vec3 position{0.0f}, geometricNormal{0.0f}, normal{0.0f};
+  uint32_t base = 0, entry = 0;
+  glm::vec2 uv{0.0f};
+};
+MeshPoint meshPoint(const WorldMesh& wm, const std::vector<MaterialEntry>& entries, uint32_t triangle, const glm::vec3& w) {
+  const Mesh& mesh = *wm.mesh;
+  const glm::uvec3 v = wm.triangle(triangle);
+  MeshPoint p;
+  p.position = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+  const glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
+  p.geometricNormal = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
+  p.normal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : p.geometricNormal;
+  p.base = (*wm.materials)[triangle];
+  if (mesh.hasUvs()) p.uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
+  p.entry = uint32_t(entries[p.base].entryAt(mesh.hasUvs() ? &p.uv : nullptr));
+  return p;
+}
+
 // Points sorted into a uniform grid, for the neighbours within a radius.
 class PointGrid {
  public:
@@ -320,7 +341,7 @@ namespace {
 // An atlas's own memory: its texels' records and the charts' and triangles' tables.
 size_t atlasBytes(const Atlas& atlas) {
   return atlas.texels.size() * sizeof(AtlasTexel) + atlas.rects.size() * sizeof(Atlas::Rect) +
-         (atlas.chartU.size() + atlas.chartV.size()) * sizeof(glm::vec3) + atlas.chartOfTriangle.size() * 4 +
+         atlas.chartOfTriangle.size() * 4 +
          atlas.cornerTexel.size() * sizeof(glm::vec2) + atlas.partStart.size() * 4 +
          atlas.parts.size() * sizeof(Atlas::SourcePart) + atlas.partCorners.size() * sizeof(glm::vec2);
 }
@@ -761,15 +782,10 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
       // part's centroid and area; area 0 where it has none).
       auto pointOn = [&](uint32_t triangle, const glm::vec3& w, float area) {
         TexelPoint p;
-        glm::uvec3 v = wm.triangle(triangle);
+        const MeshPoint m = meshPoint(wm, entries, triangle, w);
         p.triangle = triangle;
-        p.position = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
-        glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
-        p.geometricNormal = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
-        p.normal = glm::dot(n, n) > 0.0f ? glm::normalize(n) : p.geometricNormal;
-        p.base = (*wm.materials)[triangle];
-        if (mesh.hasUvs()) p.uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
-        p.entry = uint32_t(entries[p.base].entryAt(mesh.hasUvs() ? &p.uv : nullptr));
+        p.position = m.position, p.geometricNormal = m.geometricNormal, p.normal = m.normal;
+        p.base = m.base, p.entry = m.entry, p.uv = m.uv;
         p.area = area;
         for (int k = 0; k < 3; ++k) p.vertices[k] = object.vertexOfCorner[3 * size_t(triangle) + size_t(k)];
         p.beta = w;
@@ -940,7 +956,6 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
   const bool withMu0 = scene.tabulated();
   for (Object& object : objects_) {
     const WorldMesh& wm = rays_->meshes()[size_t(object.rayMesh)];
-    const Mesh& mesh = *wm.mesh;
     const Atlas& atlas = object.atlas;
     const size_t active = object.active.size();
     // 1. The illumination map: the flux through every texel (and times mu0), the sum of its parts'.
@@ -954,17 +969,9 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
         const size_t texelIndex = object.active[a];
         for (uint32_t pi = atlas.partStart[texelIndex]; pi < atlas.partStart[texelIndex + 1]; ++pi) {
           const Atlas::SourcePart& part = atlas.parts[pi];
-          const glm::uvec3 v = wm.triangle(part.triangle);
-          const glm::vec3 w = part.barycentric;
-          const glm::vec3 p = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
-          const glm::vec3 ng = glm::normalize(glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]));
-          glm::vec3 n = w.x * wm.normals[v.x] + w.y * wm.normals[v.y] + w.z * wm.normals[v.z];
-          n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : ng;
-          const uint32_t base = (*wm.materials)[part.triangle];
-          glm::vec2 uv(0.0f);
-          if (mesh.hasUvs()) uv = w.x * mesh.cpuUvs[v.x] + w.y * mesh.cpuUvs[v.y] + w.z * mesh.cpuUvs[v.z];
-          const uint32_t entry = uint32_t(entries[base].entryAt(mesh.hasUvs() ? &uv : nullptr));
-          const Entering in = light.at(uint32_t(object.rayMesh), part.triangle, p, ng, n, tx.area * part.share, base, entry, uv);
+          const MeshPoint m = meshPoint(wm, entries, part.triangle, part.barycentric);
+          const Entering in = light.at(uint32_t(object.rayMesh), part.triangle, m.position, m.geometricNormal, m.normal,
+                                       tx.area * part.share, m.base, m.entry, m.uv);
           flux[a] += in.flux, fluxMu0[a] += in.fluxMu0;
         }
       }
