@@ -1,6 +1,7 @@
 #include "precomputed/precomputed_transport.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <string>
 #include <tuple>
 
+#include "material/radial_table.h"
 #include "material/profile_set.h"
 #include "material/transport_model.h"
 #include "reference/ray_scene.h"
@@ -25,6 +27,7 @@ namespace {
 struct EntryProfile {
   bool translucent = false, tabulated = false;
   std::array<std::shared_ptr<const RadialProfile>, 3> channel;
+  RadialTable table;  // the channels' P and energy within a radius, for the kernels' inner loops
   double mmPerUnit = 1.0;
   double support = 0.0;   // the radius keeping kSupportEnergy of every channel
   double detail = 0.0;    // the finest channel's half-energy radius
@@ -55,14 +58,16 @@ std::vector<EntryProfile> entryProfiles(const Scene& scene) {
       p.detail = std::min(p.detail, profile.radiusForEnergy(0.5) / p.mmPerUnit);
     }
     if (!std::isfinite(p.detail)) p.detail = 0.0;
+    p.table = RadialTable({p.channel[0].get(), p.channel[1].get(), p.channel[2].get()}, !p.tabulated);
   }
   return out;
 }
 
-// P's mean over a cell of radius h around the source at distance r (mm, 1/mm^2): over the disk
-// when nearer than h, over the ring from r - h to r + h when nearer than 8 h, else P(r) (the
-// profiles' peak at r = 0, which a point value misses; REFERENCE's Profile::evaluate does the same).
-double cellMean(const RadialProfile& p, double r, double h) {
+// P's mean over a cell of radius h around the source at distance r (mm, 1/mm^2), per channel: over
+// the disk when nearer than h, over the ring from r - h to r + h when nearer than 8 h, else P(r)
+// (the profiles' peak at r = 0, which a point value misses; REFERENCE's Profile::evaluate does the
+// same).
+glm::dvec3 cellMean(const RadialTable& p, double r, double h) {
   if (h > 0.0 && r < 8.0 * h) {
     double lo = std::max(r - h, 0.0), hi = r + h;
     if (r < h) lo = 0.0, hi = h;
@@ -75,16 +80,12 @@ double cellMean(const RadialProfile& p, double r, double h) {
 // 1 / unit^2: sqrt(P_in P_out) between different profiles (eq. 8).
 glm::vec3 transport(const EntryProfile& in, const EntryProfile& out, double r, double area) {
   double h = std::sqrt(std::max(area, 0.0) / M_PI);
-  glm::vec3 k(0.0f);
-  for (int c = 0; c < 3; ++c) {
-    double a = cellMean(*in.channel[size_t(c)], r * in.mmPerUnit, h * in.mmPerUnit) * in.mmPerUnit * in.mmPerUnit;
-    if (&in != &out) {
-      double b = cellMean(*out.channel[size_t(c)], r * out.mmPerUnit, h * out.mmPerUnit) * out.mmPerUnit * out.mmPerUnit;
-      a = std::sqrt(std::max(a, 0.0) * std::max(b, 0.0));
-    }
-    k[c] = float(a);
+  glm::dvec3 a = cellMean(in.table, r * in.mmPerUnit, h * in.mmPerUnit) * (in.mmPerUnit * in.mmPerUnit);
+  if (&in != &out) {
+    glm::dvec3 b = cellMean(out.table, r * out.mmPerUnit, h * out.mmPerUnit) * (out.mmPerUnit * out.mmPerUnit);
+    a = glm::sqrt(glm::max(a, 0.0) * glm::max(b, 0.0));
   }
-  return k;
+  return glm::vec3(a);
 }
 
 constexpr int kPolygonAngles = 24;  // rays across a polygon seen from outside it; 8 times that around
@@ -93,8 +94,7 @@ constexpr int kPolygonAngles = 24;  // rays across a polygon seen from outside i
 // at the origin, either turn) that a profile sends to the origin: the energy of P over it, by angle,
 // with P's energy within a radius (energyWithin) along each ray from where it enters the polygon to
 // where it leaves: exact but for the angular sum.
-template <typename Channels>
-glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t count, double height) {
+glm::dvec3 polygonEnergy(const RadialTable& p, const glm::dvec2* corners, size_t count, double height) {
   double twice = 0.0;
   for (size_t k = 0; k < count; ++k) {
     const glm::dvec2 &a = corners[k], &b = corners[(k + 1) % count];
@@ -113,8 +113,7 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
     if (bound[k] < 0.0) inside = false;
   }
   const double h2 = height * height;
-  auto through = [&](double theta) {  // P's energy along the ray at angle theta inside the polygon
-    glm::dvec2 d(std::cos(theta), std::sin(theta));
+  auto through = [&](const glm::dvec2& d) {  // P's energy along the ray in direction d inside the polygon
     double t0 = 0.0, t1 = INFINITY;
     for (size_t k = 0; k < count; ++k) {
       double nd = glm::dot(normal[k], d);
@@ -126,18 +125,22 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
       if (nd > 0.0) t1 = std::min(t1, t);
       else t0 = std::max(t0, t);
     }
-    glm::dvec3 e(0.0);
-    if (t1 > t0)
-      for (int c = 0; c < 3; ++c)
-        e[c] = p[size_t(c)]->energyWithin(std::sqrt(t1 * t1 + h2)) -
-               (t0 > 0.0 || h2 > 0.0 ? p[size_t(c)]->energyWithin(std::sqrt(t0 * t0 + h2)) : 0.0);
-    return e;
+    if (!(t1 > t0)) return glm::dvec3(0.0);
+    return p.energyWithin(std::sqrt(t1 * t1 + h2)) -
+           (t0 > 0.0 || h2 > 0.0 ? p.energyWithin(std::sqrt(t0 * t0 + h2)) : glm::dvec3(0.0));
   };
   if (inside) {
-    const int n = 8 * kPolygonAngles;
+    static const std::array<glm::dvec2, 8 * kPolygonAngles> around = [] {
+      std::array<glm::dvec2, 8 * kPolygonAngles> d;
+      for (size_t k = 0; k < d.size(); ++k) {
+        const double theta = (double(k) + 0.5) / double(d.size()) * 2.0 * M_PI;
+        d[k] = glm::dvec2(std::cos(theta), std::sin(theta));
+      }
+      return d;
+    }();
     glm::dvec3 sum(0.0);
-    for (int k = 0; k < n; ++k) sum += through((k + 0.5) / n * 2.0 * M_PI);
-    return sum / double(n);
+    for (const glm::dvec2& d : around) sum += through(d);
+    return sum / double(around.size());
   }
   double lo = INFINITY, hi = -INFINITY, base = std::atan2(corners[0].y, corners[0].x);
   for (size_t k = 0; k < count; ++k) {
@@ -145,8 +148,13 @@ glm::dvec3 polygonEnergy(const Channels& p, const glm::dvec2* corners, size_t co
     lo = std::min(lo, a), hi = std::max(hi, a);
   }
   glm::dvec3 sum(0.0);
-  const double step = (hi - lo) / kPolygonAngles;
-  for (int k = 0; k < kPolygonAngles; ++k) sum += through(base + lo + (k + 0.5) * step);
+  const double step = (hi - lo) / kPolygonAngles, first = base + lo + 0.5 * step;
+  const glm::dvec2 rotation(std::cos(step), std::sin(step));  // each ray's direction is the last one's turned by step
+  glm::dvec2 d(std::cos(first), std::sin(first));
+  for (int k = 0; k < kPolygonAngles; ++k) {
+    sum += through(d);
+    d = glm::dvec2(d.x * rotation.x - d.y * rotation.y, d.x * rotation.y + d.y * rotation.x);
+  }
   return sum * step / (2.0 * M_PI);
 }
 
@@ -193,7 +201,7 @@ glm::vec3 nearTransport(const EntryProfile& in, const EntryProfile& out, const A
     for (int side = 0; side < (pair ? 2 : 1); ++side) {
       const EntryProfile& profile = side == 0 ? in : out;
       for (size_t k = 0; k < count; ++k) scaled[k] = corners[k] * profile.mmPerUnit;
-      sums[side] += double(part.share) / area * polygonEnergy(profile.channel, scaled, count, height * profile.mmPerUnit);
+      sums[side] += double(part.share) / area * polygonEnergy(profile.table, scaled, count, height * profile.mmPerUnit);
     }
   }
   glm::vec3 k(0.0f);
