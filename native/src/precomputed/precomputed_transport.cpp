@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
