@@ -169,13 +169,20 @@ struct ObjectSamples {
   float cellSize = 1.0f;
   glm::ivec3 dims{1};
   double support = 0.0;
+  // The support plus the longest cell edge: a sample reaches x_o within the support while its
+  // centre is nearer than the support plus its own edge (a cell's points lie within its longest
+  // edge of its centroid). Where the profile is shorter than a cell (a metre-sized object of a
+  // millimetre medium), the support alone missed the cells around x_o (stop 50).
+  double reach = 0.0;
 
   void buildGrid() {
     Bounds b;
-    for (const SurfaceSample& s : samples) b.extend(s.position);
+    double longest = 0.0;
+    for (const SurfaceSample& s : samples) b.extend(s.position), longest = std::max(longest, double(s.diameter));
+    reach = support + longest;
     origin = b.lo;
     glm::vec3 extent = glm::max(b.hi - b.lo, glm::vec3(1e-6f));
-    cellSize = float(std::max(support * 0.5, 1e-9));
+    cellSize = float(std::max(reach * 0.5, 1e-9));
     // At most about 4M cells: bigger cells only cost time, never accuracy.
     while (double(extent.x / cellSize + 1) * (extent.y / cellSize + 1) * (extent.z / cellSize + 1) > 4.0e6)
       cellSize *= 1.5f;
@@ -236,10 +243,9 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
                       const std::vector<MaterialEntry>& entries, const std::vector<Profile>& profiles,
                       uint64_t& evaluations) {
   glm::dvec4 sum(0.0);
-  double support = object.support;
-  double support2 = support * support;
-  glm::ivec3 lo = object.cellCoord(xo - glm::vec3(float(support)));
-  glm::ivec3 hi = object.cellCoord(xo + glm::vec3(float(support)));
+  const double support = object.support;
+  glm::ivec3 lo = object.cellCoord(xo - glm::vec3(float(object.reach)));
+  glm::ivec3 hi = object.cellCoord(xo + glm::vec3(float(object.reach)));
   glm::dvec3 x(xo);
   for (int z = lo.z; z <= hi.z; ++z)
     for (int y = lo.y; y <= hi.y; ++y)
@@ -249,7 +255,8 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
           const SurfaceSample& s = object.samples[i];
           glm::dvec3 offset = x - glm::dvec3(s.position);
           double r2 = glm::dot(offset, offset);
-          if (r2 >= support2) continue;
+          const double reach = support + double(s.diameter);  // ObjectSamples::reach's, for this cell
+          if (r2 >= reach * reach) continue;
           const Profile& in = profiles[s.material];
           ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
           double side = in.transport ? sideWeight(double(glm::dot(s.normal, no))) : 1.0;
