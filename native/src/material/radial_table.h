@@ -20,9 +20,10 @@ namespace subsplat {
 // profiles' peak; reach is kReachFactor times the longest channel's radius keeping all but
 // kReachTail of its energy. Beyond reach the energy is the energy within reach and P is zero;
 // within the first two knots (reach 1.5e-11) P is the profiles' own, which may be singular at 0.
-// TABULATED's P is not tabulated (values = false: value() asks the profiles): it is power laws in
-// log r, singular at 0 and cut at its table's end, which a cubic in u misses by up to 90 % (the
-// test), and its own lookup is already a table. The table points at the profiles: they must
+// P is tabulated only where asked (values), for a smooth profile (the dipole); otherwise value()
+// asks the profiles. TABULATED's P is power laws in log r, singular at 0 and cut at its table's
+// end, which a cubic in u misses by up to 90 % (the test), and a SubEdit profile's is cut at its
+// radius too; their own lookups are already tables. The table points at the profiles: they must
 // outlive it. A channel without energy is zero.
 class RadialTable {
  public:

@@ -57,7 +57,10 @@ std::vector<EntryProfile> entryProfiles(const Scene& scene) {
       p.detail = std::min(p.detail, profile.radiusForEnergy(0.5) / p.mmPerUnit);
     }
     if (!std::isfinite(p.detail)) p.detail = 0.0;
-    p.table = RadialTable({p.channel[0].get(), p.channel[1].get(), p.channel[2].get()}, !p.tabulated);
+    // P from the table for the dipole's closed form only: TABULATED's and SubEdit's P are cut to
+    // zero at their tables' ends, which a cubic through the knots smears (radial_table.h).
+    const bool dipole = !p.tabulated && e.desc.kind != SS_MATERIAL_SUBEDIT;
+    p.table = RadialTable({p.channel[0].get(), p.channel[1].get(), p.channel[2].get()}, dipole);
   }
   return out;
 }
