@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 23  # SS_API_VERSION of subsplat.h
+API_VERSION = 24  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -26,6 +26,7 @@ SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED = 0, 1
 SS_PASS_EXITANCE, SS_PASS_SELECTION, SS_PASS_LEVEL_EXITANCE = 0, 1, 2
 SS_TEXTURE_REPEAT, SS_TEXTURE_EXTEND, SS_TEXTURE_CLIP = 0, 1, 2
 SS_TEXTURE_LINEAR, SS_TEXTURE_CLOSEST = 0, 1
+SS_ATLAS_UV_MAP, SS_ATLAS_MADE = 0, 1
 
 # The plain data's names (export.data) for them.
 METHODS = {"BRUTE": SS_METHOD_BRUTE, "MULTIRES": SS_METHOD_MULTIRES, "ADAPTIVE": SS_METHOD_ADAPTIVE,
@@ -38,6 +39,7 @@ MATERIAL_KINDS = {"OPAQUE": SS_MATERIAL_OPAQUE, "DIPOLE": SS_MATERIAL_DIPOLE, "S
 PROFILE_MODELS = {"DIPOLE": SS_PROFILE_DIPOLE, "TABULATED": SS_PROFILE_TABULATED}
 TEXTURE_EXTENSIONS = {"REPEAT": SS_TEXTURE_REPEAT, "EXTEND": SS_TEXTURE_EXTEND, "CLIP": SS_TEXTURE_CLIP}
 TEXTURE_INTERPOLATIONS = {"LINEAR": SS_TEXTURE_LINEAR, "CLOSEST": SS_TEXTURE_CLOSEST}
+ATLASES = {"UV_MAP": SS_ATLAS_UV_MAP, "MADE": SS_ATLAS_MADE}
 
 _STATUS = {1: "invalid argument", 2: "invalid handle", 3: "out of memory", 4: "OpenGL error",
            5: "limit exceeded", 6: "internal error", 7: "cancelled"}
@@ -133,7 +135,8 @@ class Settings(ctypes.Structure):
                 ("z0_factor", ctypes.c_float), ("alpha", ctypes.c_float), ("epsilon", ctypes.c_float),
                 ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32),
                 ("target_error", ctypes.c_float), ("samples", ctypes.c_int32), ("filter_width", ctypes.c_float),
-                ("first_sample", ctypes.c_int32), ("shadow_resolution", ctypes.c_int32)]
+                ("first_sample", ctypes.c_int32), ("shadow_resolution", ctypes.c_int32),
+                ("precomputed_atlas", ctypes.c_int32)]
 
 
 class Stats(ctypes.Structure):
@@ -166,7 +169,8 @@ class PrecomputedObject(ctypes.Structure):
     _fields_ = [("object_id", ctypes.c_uint32), ("vertices", ctypes.c_uint32), ("bytes", ctypes.c_uint64),
                 ("texels", ctypes.c_uint64), ("kernel_taps", ctypes.c_uint64), ("factors", ctypes.c_uint64),
                 ("atlas_width", ctypes.c_int32), ("atlas_height", ctypes.c_int32), ("texel_size", ctypes.c_float),
-                ("local_range", ctypes.c_float), ("precompute_ms", ctypes.c_double)]
+                ("local_range", ctypes.c_float), ("precompute_ms", ctypes.c_double), ("charts", ctypes.c_int32),
+                ("uv_charts", ctypes.c_int32), ("uv_islands_refused", ctypes.c_int32)]
 
 
 LAYOUTS = {MeshDesc: "SsMeshDesc", ResourceCounts: "SsResourceCounts", MaterialDesc: "SsMaterialDesc",
@@ -461,6 +465,7 @@ def _settings(settings):
     result.filter_width = settings.filter_width
     result.first_sample = settings.first_sample
     result.shadow_resolution = settings.shadow_resolution
+    result.precomputed_atlas = ATLASES[settings.precomputed_atlas]
     result.target_error = settings.target_error
     return result
 

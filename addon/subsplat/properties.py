@@ -108,6 +108,14 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
         description="Texels per side of each light view's shadow map (hard shadows); 0 chooses them so that a "
                     "texel is no larger than a pixel of the image, up to 2048 (the render stats say what was "
                     "chosen). Soft shadows and the light through thin parts use the irradiance buffer's")
+    precomputed_atlas: EnumProperty(
+        name="Atlas", default="UV_MAP",
+        items=[("UV_MAP", "UV Map Where It Fits",
+                "Each island of a mesh's UV map is a chart of Precomputed's atlas when it is stretched no more "
+                "than 1.5 times either way, has one winding and does not overlap itself; the rest is charted "
+                "as if there were no UV map (the render report counts both, docs/PRECOMPUTED.md)"),
+               ("MADE", "Made", "Every mesh charted by its normals, as if it had no UV map")],
+        description="Precomputed: the texture atlas its kernels and factors are laid out on")
     world_directions: IntProperty(
         name="World Directions", default=0, min=-1, max=64,
         description="The world's light: the directions it casts shadows from (each costs about what a sun "

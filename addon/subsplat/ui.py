@@ -44,6 +44,8 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
             layout.prop(settings, "scene_file")
             layout.label(text="The viewport shows Full; Reference is for final renders", icon="INFO")
             return
+        if settings.method == "PRECOMPUTED":
+            layout.prop(settings, "precomputed_atlas")
         layout.prop(settings, "quality")
         manual = layout.column()
         if settings.quality == "AUTO":

@@ -36,6 +36,7 @@ class Precomputed : public ::testing::Test {
     SsSettings settings = ssDefaultSettings();
     settings.method = method;
     settings.irradiance_resolution = resolution;
+    settings.precomputed_atlas = atlas;
     if (referenceSamples) settings.reference_samples = referenceSamples;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
     std::vector<float> rgba(size_t(size) * size * 4);
@@ -47,6 +48,7 @@ class Precomputed : public ::testing::Test {
   }
   testing::EglContext gl;
   SsContext context = nullptr;
+  int atlas = SS_ATLAS_UV_MAP;  // render's settings.precomputed_atlas
 };
 
 // A square of half-size `half` in z = 0 cut into n x n cells (two triangles each), normals up.
@@ -260,37 +262,247 @@ TEST(PrecomputedAtlas, BordersDoNotCrossCreases) {
   EXPECT_EQ(missing, 0u) << "texels within the border of a core texel hold no point";
 }
 
-// The lit sphere (a sun at 70 degrees and a point light behind: a terminator, curvature, a thin
-// rim) against REFERENCE (at 100 000 samples; 48 x 48 pixels), under each profile model: no further
-// than FULL's image (0.48 % against FULL's 1.04 % with DIPOLE, 1.12 % against 1.31 % with
-// TABULATED), and the frame that reuses the precomputation is the one that made it. Times are
-// printed, not asserted.
-TEST_F(Precomputed, LitSphereAgainstReference) {
-  testing::Sphere sphere;
-  for (int model : {SS_PROFILE_DIPOLE, SS_PROFILE_TABULATED}) {
-    SCOPED_TRACE(model == SS_PROFILE_DIPOLE ? "DIPOLE" : "TABULATED");
-    SsMaterialDesc material = testing::skinMaterial(30.0f);
-    material.profile_model = model;
-    ASSERT_EQ(testing::setLitSphere(context, sphere, material), SS_OK) << ssGetLastError();
-    const int size = 48;
-    SsStats precomputation{}, relit{}, full{};
-    std::vector<float> first = render(SS_METHOD_PRECOMPUTED, size, &precomputation);
-    std::vector<float> again = render(SS_METHOD_PRECOMPUTED, size, &relit);
-    std::vector<float> fullImage = render(SS_METHOD_FULL, size, &full);
-    std::vector<float> truth = render(SS_METHOD_REFERENCE, size, nullptr, 0, 100000);
-    double ours = testing::relativeRmse(again, truth), theirs = testing::relativeRmse(fullImage, truth);
-    std::printf("precomputation %.0f ms (%llu bytes, %llu texels, %llu factors); relit frame %.1f ms (relight %.1f); "
-                "FULL %.1f ms; against REFERENCE: PRECOMPUTED %.4f, FULL %.4f\n",
-                precomputation.precompute_ms, (unsigned long long)relit.precomputed_bytes,
-                (unsigned long long)relit.precomputed_texels, (unsigned long long)relit.precomputed_factors, relit.frame_ms,
-                relit.relight_ms, full.frame_ms, ours, theirs);
-    EXPECT_EQ(precomputation.transport_reused, 0);
-    EXPECT_EQ(relit.transport_reused, 1);
-    EXPECT_EQ(relit.precompute_ms, 0.0);
-    EXPECT_EQ(first, again) << "the frame that precomputed and the one that reused differ";
-    EXPECT_LT(ours, 0.015) << testing::writeComparison("precomputed_sphere", again, truth, size, size);
-    EXPECT_LE(ours, theirs) << testing::writeComparison("precomputed_sphere", again, truth, size, size);
+// A unit cube with 4 x 4 cells a face and a UV map unfolded as a cross: the four sides in a row
+// (u 0..4), the top above the front and the bottom below it. Isometric, one winding; its faces
+// meet at creases.
+struct CrossCube {
+  explicit CrossCube(int n = 4) {
+    struct Face {
+      glm::vec3 origin, u, v;
+      glm::vec2 uv;
+    };
+    const Face faces[6] = {{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {0, 0}},  {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0}},
+                           {{1, 1, 0}, {-1, 0, 0}, {0, 0, 1}, {2, 0}}, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {3, 0}},
+                           {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0, 1}},  {{0, 1, 0}, {1, 0, 0}, {0, -1, 0}, {0, -1}}};
+    for (const Face& f : faces) {
+      const uint32_t first = uint32_t(positions.size());
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          const float s = float(i) / float(n), t = float(j) / float(n);
+          positions.push_back(f.origin + s * f.u + t * f.v);
+          uvs.push_back(f.uv + glm::vec2(s, t));
+        }
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          uint32_t a = first + uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+          indices.insert(indices.end(), {a, b, d, a, d, c});
+        }
+    }
   }
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices;
+};
+
+// A closed cylinder of radius 1 and height 2 (z from -1 to 1), `segments` around and `rows` up its
+// side, with Blender's UV map: the side unrolled (u the arc length from a seam, v the height;
+// isometric), each cap a disc.
+struct UvCylinder {
+  explicit UvCylinder(int segments = 32, int rows = 8) {
+    for (int j = 0; j <= rows; ++j)
+      for (int i = 0; i <= segments; ++i) {
+        const float a = 2.0f * float(M_PI) * float(i) / float(segments), z = -1.0f + 2.0f * float(j) / float(rows);
+        positions.emplace_back(std::cos(a), std::sin(a), z), normals.emplace_back(std::cos(a), std::sin(a), 0.0f);
+        uvs.emplace_back(a, z);
+      }
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < segments; ++i) {
+        uint32_t p = uint32_t(j * (segments + 1) + i), q = p + 1, r = p + uint32_t(segments + 1), t = r + 1;
+        indices.insert(indices.end(), {p, q, t, p, t, r});
+      }
+    for (float side : {-1.0f, 1.0f}) {
+      const uint32_t centre = uint32_t(positions.size());
+      positions.emplace_back(0.0f, 0.0f, side), normals.emplace_back(0.0f, 0.0f, side), uvs.emplace_back(0.0f, 0.0f);
+      for (int i = 0; i < segments; ++i) {
+        const float a = 2.0f * float(M_PI) * float(i) / float(segments);
+        positions.emplace_back(std::cos(a), std::sin(a), side), normals.emplace_back(0.0f, 0.0f, side);
+        uvs.emplace_back(std::cos(a), std::sin(a));
+      }
+      for (int i = 0; i < segments; ++i) {
+        uint32_t p = centre + 1 + uint32_t(i), q = centre + 1 + uint32_t((i + 1) % segments);
+        if (side > 0.0f) indices.insert(indices.end(), {centre, p, q});
+        else indices.insert(indices.end(), {centre, q, p});
+      }
+    }
+  }
+  // Turned to show its side and top cap to a camera looking down -z.
+  SsMeshDesc desc(float radius, uint32_t material, bool withUvs) const {
+    SsMeshDesc d{};
+    d.positions = &positions[0].x;
+    d.normals = &normals[0].x;
+    d.uvs = withUvs ? &uvs[0].x : nullptr;
+    d.vertex_count = uint32_t(positions.size());
+    d.indices = indices.data();
+    d.triangle_count = uint32_t(indices.size() / 3);
+    d.default_material = material;
+    const glm::mat4 m = glm::rotate(glm::mat4(1.0f), glm::radians(-50.0f), glm::vec3(1, 0, 0)) *
+                        glm::scale(glm::mat4(1.0f), glm::vec3(radius));
+    std::memcpy(d.object_to_world, &m[0][0], sizeof d.object_to_world);
+    return d;
+  }
+  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> indices;
+};
+
+// The mesh's own UV map (docs/PRECOMPUTED.md, "The mesh's own UV map"): an island that fits is one
+// chart, laid out as the UVs are (every triangle covered, its core area the mesh's, each texel's
+// point where the display's coordinates put it, a border around every core texel); an island
+// that crosses a crease is cut there; an island stretched more than kMaxUvStretch, one that folds
+// (two windings) and one that wraps over itself (a strip whose UVs turn through 2.5 turns) are each
+// charted as without UVs.
+TEST(PrecomputedAtlas, TakesTheUvMapsIslandsWhenTheyFit) {
+  const int border = 3;
+  UvCylinder cylinder;
+  const std::vector<char> all(cylinder.indices.size() / 3, 1);
+  Atlas own = buildAtlas(cylinder.positions, cylinder.indices, all, 0.02f, border, size_t(1) << 24, &cylinder.uvs);
+  Atlas made = buildAtlas(cylinder.positions, cylinder.indices, all, 0.02f, border, size_t(1) << 24);
+  std::printf("cylinder: %d charts from its UV map, %d x %d texels; without: %d charts, %d x %d\n", own.charts,
+              own.width, own.height, made.charts, made.width, made.height);
+  EXPECT_EQ(own.charts, 3) << "the side and the two caps";
+  EXPECT_EQ(own.uvCharts, 3);
+  EXPECT_EQ(own.uvIslandsRefused, 0);
+  EXPECT_GT(made.charts, 3);
+  double coreArea = 0.0, meshArea = 0.0;
+  for (const AtlasTexel& t : own.texels) coreArea += t.area;
+  for (size_t t = 0; t < all.size(); ++t) {
+    const glm::vec3 a = cylinder.positions[cylinder.indices[3 * t]], b = cylinder.positions[cylinder.indices[3 * t + 1]],
+                    c = cylinder.positions[cylinder.indices[3 * t + 2]];
+    meshArea += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  EXPECT_NEAR(coreArea / meshArea, 1.0, 1e-3) << "the texels' core parts are the mesh's area";
+  // Laid out as the UVs: within each chart the corners are the UVs scaled alike (the island's ratio
+  // of world to UV area), turned and moved: every edge's length over its UV length the same.
+  std::vector<glm::dvec2> ratios(size_t(own.charts), glm::dvec2(INFINITY, 0.0));  // least, most
+  for (size_t t = 0; t < all.size(); ++t) {
+    ASSERT_GE(own.chartOfTriangle[t], 0) << t;
+    glm::dvec2& r = ratios[size_t(own.chartOfTriangle[t])];
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec2 a = own.cornerTexel[3 * t + size_t(k)], b = own.cornerTexel[3 * t + size_t((k + 1) % 3)];
+      const glm::vec2 ua = cylinder.uvs[cylinder.indices[3 * t + size_t(k)]],
+                      ub = cylinder.uvs[cylinder.indices[3 * t + size_t((k + 1) % 3)]];
+      const double ratio = double(glm::length(b - a)) / double(glm::length(ub - ua));
+      r = glm::dvec2(std::min(r.x, ratio), std::max(r.y, ratio));
+    }
+  }
+  for (const glm::dvec2& r : ratios) EXPECT_LT(r.y / r.x - 1.0, 1e-3) << "a chart is not its island's shape";
+  size_t far = 0, missing = 0, core = 0;
+  for (int y = 0; y < own.height; ++y)
+    for (int x = 0; x < own.width; ++x) {
+      const AtlasTexel& t = own.at(x, y);
+      if (t.kind != AtlasTexel::kCore) continue;
+      ++core;
+      glm::vec2 q[3];
+      glm::vec3 p[3];
+      for (int k = 0; k < 3; ++k)
+        q[k] = own.cornerTexel[3 * t.triangle + k], p[k] = cylinder.positions[cylinder.indices[3 * t.triangle + k]];
+      const glm::vec2 centre(x + 0.5f, y + 0.5f);
+      const float d = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y);
+      const float w1 = ((centre.x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (centre.y - q[0].y)) / d;
+      const float w2 = ((q[1].x - q[0].x) * (centre.y - q[0].y) - (centre.x - q[0].x) * (q[1].y - q[0].y)) / d;
+      const glm::vec3 shown = (1 - w1 - w2) * p[0] + w1 * p[1] + w2 * p[2];
+      const glm::vec3 held = t.barycentric.x * p[0] + t.barycentric.y * p[1] + t.barycentric.z * p[2];
+      if (glm::length(shown - held) > 1e-4f) ++far;
+      for (int dy = -border; dy <= border; ++dy)
+        for (int dx = -border; dx <= border; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= own.width || ny >= own.height || own.at(nx, ny).kind == AtlasTexel::kEmpty) ++missing;
+        }
+    }
+  EXPECT_GT(core, 20000u);
+  EXPECT_EQ(far, 0u) << "core texels' points away from where the display shows them";
+  EXPECT_EQ(missing, 0u) << "texels within the border of a core texel hold no point";
+
+  // The cross cube's one island is cut at its creases: a chart a face, each from the UV map.
+  CrossCube cube;
+  const std::vector<char> faces(cube.indices.size() / 3, 1);
+  Atlas cut = buildAtlas(cube.positions, cube.indices, faces, 0.05f, border, size_t(1) << 24, &cube.uvs);
+  EXPECT_EQ(cut.charts, 6);
+  EXPECT_EQ(cut.uvCharts, 6);
+  // Stretched: u three times v (sqrt 3 either way of each island's mean).
+  std::vector<glm::vec2> stretched = cube.uvs;
+  for (glm::vec2& uv : stretched) uv.x *= 3.0f;
+  Atlas refused = buildAtlas(cube.positions, cube.indices, faces, 0.05f, border, size_t(1) << 24, &stretched);
+  EXPECT_EQ(refused.uvCharts, 0);
+  EXPECT_EQ(refused.uvIslandsRefused, 6);
+  EXPECT_EQ(refused.charts, 6) << "charted as without UVs";
+
+  // A flat strip (0.1 wide, 2.5 turns of a circle of radius 1 long) whose UVs wind it around that
+  // circle: stretched by at most 1.1, one winding, and over itself after a turn.
+  std::vector<glm::vec3> strip;
+  std::vector<glm::vec2> polar;
+  std::vector<uint32_t> stripIndices;
+  const int segments = 400;
+  const float length = 2.5f * 2.0f * float(M_PI);
+  for (int i = 0; i <= segments; ++i)
+    for (int j = 0; j < 2; ++j) {
+      const float x = length * float(i) / float(segments), y = 0.1f * float(j), r = 1.0f + y;
+      strip.emplace_back(x, y, 0.0f);
+      polar.emplace_back(r * std::cos(x), r * std::sin(x));
+    }
+  for (uint32_t i = 0; i < uint32_t(segments); ++i)
+    stripIndices.insert(stripIndices.end(), {2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1});
+  const std::vector<char> strips(stripIndices.size() / 3, 1);
+  Atlas wrapped = buildAtlas(strip, stripIndices, strips, 0.02f, border, size_t(1) << 24, &polar);
+  Atlas plain = buildAtlas(strip, stripIndices, strips, 0.02f, border, size_t(1) << 24);
+  EXPECT_EQ(wrapped.uvCharts, 0);
+  EXPECT_EQ(wrapped.uvIslandsRefused, 1);
+  EXPECT_EQ(wrapped.charts, plain.charts);
+  EXPECT_EQ(wrapped.width * wrapped.height, plain.width * plain.height);
+  // A third of it (under one turn) fits; folded back on itself half way, it does not.
+  std::vector<uint32_t> third(stripIndices.begin(), stripIndices.begin() + ptrdiff_t(stripIndices.size() / 3));
+  const std::vector<char> thirds(third.size() / 3, 1);
+  Atlas turn = buildAtlas(strip, third, thirds, 0.02f, border, size_t(1) << 24, &polar);
+  EXPECT_EQ(turn.uvCharts, 1);
+  EXPECT_EQ(turn.uvIslandsRefused, 0);
+  std::vector<glm::vec2> folded = polar;
+  const float half = 0.5f * length / 3.0f;
+  for (size_t i = 0; i < strip.size(); ++i)
+    if (strip[i].x > half) {
+      const float x = 2.0f * half - strip[i].x, r = 1.0f + strip[i].y;
+      folded[i] = glm::vec2(r * std::cos(x), r * std::sin(x));
+    }
+  Atlas fold = buildAtlas(strip, third, thirds, 0.02f, border, size_t(1) << 24, &folded);
+  EXPECT_EQ(fold.uvCharts, 0);
+  EXPECT_EQ(fold.uvIslandsRefused, 1);
+}
+
+// The UV cylinder (turned to show its side and top) under the lit sphere's lights, its atlas made
+// (SS_ATLAS_MADE) and then from its UV map (the default; a change of the setting precomputes
+// again): from its UV map, the atlas is its three islands, and its image against REFERENCE (100 000
+// samples) as near as the made atlas's (within 0.3 points) and no further than FULL's.
+TEST_F(Precomputed, TheUvMapsAtlasIsAsNearToReference) {
+  UvCylinder cylinder;
+  testing::Sphere unused;
+  SsMaterialDesc material = testing::skinMaterial(30.0f);
+  ASSERT_EQ(testing::setLitSphere(context, unused, material), SS_OK) << ssGetLastError();
+  SsMeshDesc desc = cylinder.desc(0.2f, 0, true);
+  ASSERT_EQ(ssSetMesh(context, 0, &desc), SS_OK) << ssGetLastError();
+  const int size = 48;
+  double errors[2] = {0.0, 0.0}, fullError = 0.0;
+  std::vector<float> truth;
+  for (int own = 0; own < 2; ++own) {
+    atlas = own ? SS_ATLAS_UV_MAP : SS_ATLAS_MADE;
+    SsStats stats{};
+    std::vector<float> ours = render(SS_METHOD_PRECOMPUTED, size, &stats);
+    EXPECT_EQ(stats.transport_reused, 0) << "the atlas setting changed";
+    SsPrecomputedObject object{};
+    uint32_t count = 0;
+    ASSERT_EQ(ssGetPrecomputedObjects(context, &object, 1, &count), SS_OK);
+    ASSERT_EQ(count, 1u);
+    EXPECT_EQ(object.uv_charts, own ? 3 : 0) << "the UV map's islands are the atlas";
+    if (own) EXPECT_EQ(object.charts, 3);
+    if (truth.empty()) truth = render(SS_METHOD_REFERENCE, size, nullptr, 0, 100000);
+    errors[own] = testing::relativeRmse(ours, truth);
+    if (own) {
+      fullError = testing::relativeRmse(render(SS_METHOD_FULL, size), truth);
+      EXPECT_LE(errors[1], fullError) << testing::writeComparison("precomputed_uv_cylinder", ours, truth, size, size);
+    }
+    std::printf("%s: %d charts, %llu texels, %.1f MiB; against REFERENCE %.4f\n", own ? "its UV map" : "made",
+                object.charts, (unsigned long long)object.texels, double(object.bytes) / 1048576.0, errors[own]);
+  }
+  std::printf("FULL against REFERENCE %.4f\n", fullError);
+  EXPECT_LT(errors[1], errors[0] + 0.003);
 }
 
 // What the precomputation serves: a light or camera move, and a rigid move of the object (turned
@@ -741,6 +953,9 @@ TEST_F(Precomputed, ReportsEachObject) {
     EXPECT_GT(o.texel_size, 0.0f);
     EXPECT_GE(o.local_range, o.texel_size);
     EXPECT_GT(o.precompute_ms, 0.0);
+    EXPECT_GT(o.charts, 0);
+    EXPECT_EQ(o.uv_charts, 0) << "a UV sphere's map is stretched at its poles";
+    EXPECT_EQ(o.uv_islands_refused, 1);
   }
   EXPECT_EQ(bytes, stats.precomputed_bytes);
   EXPECT_EQ(texels, stats.precomputed_texels);

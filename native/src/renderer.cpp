@@ -84,6 +84,9 @@ void Renderer::setSettings(const SsSettings& s) {
   if (s.shadow_resolution > maxTextureSize_)
     fail(SS_LIMIT_EXCEEDED, "shadow resolution " + std::to_string(s.shadow_resolution) +
                                 " exceeds this GPU's texture limit of " + std::to_string(maxTextureSize_));
+  require(s.precomputed_atlas == SS_ATLAS_UV_MAP || s.precomputed_atlas == SS_ATLAS_MADE,
+          "precomputed atlas must be 0 (the UV map where it fits) or 1 (made), got " +
+              std::to_string(s.precomputed_atlas));
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
@@ -529,14 +532,15 @@ void Renderer::renderPrecomputed(int width, int height) {
                         " pixels; lower the render resolution)");
     precomputedDisplay_.resize(width, height);
   }
-  bool reuse = precomputedTransport_.serves(scene_);
+  const bool ownUvs = settings_.precomputed_atlas == SS_ATLAS_UV_MAP;
+  bool reuse = precomputedTransport_.serves(scene_, ownUvs);
   auto start = Clock::now();
   if (!reuse) {
     // Within the memory budget, less what the frame's GPU buffers already hold.
     uint64_t budget = gl::memoryBudget(), live = gl::gpuBytes();
     size_t room = size_t(std::min<uint64_t>(budget > live ? budget - live : 0, PrecomputedTransport::kDefaultBytes));
     try {
-      precomputedTransport_.precompute(scene_, room, progress_);
+      precomputedTransport_.precompute(scene_, room, progress_, ownUvs);
     } catch (...) {
       precomputedTransport_.clear();
       throw;
@@ -563,6 +567,7 @@ std::vector<SsPrecomputedObject> Renderer::precomputedObjects() const {
     p.kernel_taps = o.kernelSource.size();
     p.factors = o.factors();
     p.atlas_width = o.atlas.width, p.atlas_height = o.atlas.height;
+    p.charts = o.atlas.charts, p.uv_charts = o.atlas.uvCharts, p.uv_islands_refused = o.atlas.uvIslandsRefused;
     p.texel_size = o.atlas.texel;
     p.local_range = o.size.localRange;
     p.precompute_ms = o.precomputeMs;

@@ -46,7 +46,8 @@ class SceneFile : public ::testing::Test {
   }
   // Rewrites the saved file as an older format `version`: each record's payload goes through
   // edit(tag, payload), which shortens it as that format had it; the sizes follow. Material
-  // records lose format 6's texture block (two absent textures and the normal strength) first.
+  // records lose format 6's texture block (two absent textures and the normal strength) first, and
+  // settings format 8's precomputed_atlas.
   // Returns how many settings records there were.
   int rewriteAs(uint32_t version, const std::function<void(uint32_t, std::vector<char>&)>& edit) const {
     std::vector<char> bytes = fileBytes(), out(bytes.begin(), bytes.begin() + 16);
@@ -66,6 +67,8 @@ class SceneFile : public ::testing::Test {
           erase(payload, 4 + i * sizeof(SsLightDesc) + offsetof(SsLightDesc, world_sh),
                 sizeof(SsLightDesc) - offsetof(SsLightDesc, world_sh));
       }
+      if (tag == 5 && version < 8 && payload.size() == sizeof(SsSettings))  // settings without precomputed_atlas
+        payload.resize(offsetof(SsSettings, precomputed_atlas));
       settings += tag == 5;
       edit(tag, payload);
       uint64_t shorter = payload.size();
@@ -229,7 +232,7 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
       for (uint32_t i = count; i-- > 0;) erase(payload, 4 + (i + 1) * record - added, added);
     }
     if (tag == 5) {  // settings: drop the fields from target_error on
-      ASSERT_EQ(payload.size(), sizeof(SsSettings));
+      ASSERT_EQ(payload.size(), offsetof(SsSettings, precomputed_atlas));  // (rewriteAs: format 7's)
       payload.resize(offsetof(SsSettings, target_error));
     }
   });
@@ -277,6 +280,33 @@ TEST_F(SceneFile, AntiAliasingSettingsRoundTripAndFormatFourTakesOneSample) {
   EXPECT_FLOAT_EQ(got.filter_width, 1.5f);
   EXPECT_EQ(got.first_sample, 0);
   EXPECT_FLOAT_EQ(got.target_error, 0.05f);
+  EXPECT_EQ(ssReleaseContext(loaded), SS_OK);
+}
+
+// PRECOMPUTED's atlas setting (format 8) round trips; a format 7 file, which has none, takes the
+// UV map where it fits (the default).
+TEST_F(SceneFile, PrecomputedAtlasRoundTripsAndFormatSevenTakesTheUvMap) {
+  SsMaterialDesc opaque{};
+  opaque.kind = SS_MATERIAL_OPAQUE;
+  ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
+  SsSettings settings = ssDefaultSettings();
+  EXPECT_EQ(settings.precomputed_atlas, SS_ATLAS_UV_MAP);
+  settings.precomputed_atlas = SS_ATLAS_MADE;
+  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
+  SsContext loaded = nullptr;
+  ASSERT_EQ(ssNewContext(&loaded), SS_OK);
+  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  SsSettings got{};
+  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  EXPECT_EQ(got.precomputed_atlas, SS_ATLAS_MADE);
+  ASSERT_EQ(rewriteAs(7, [](uint32_t, std::vector<char>&) {}), 1);
+  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  EXPECT_EQ(got.precomputed_atlas, SS_ATLAS_UV_MAP);
+  settings.precomputed_atlas = 2;
+  EXPECT_EQ(ssSetSettings(loaded, &settings), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("precomputed atlas"), std::string::npos) << ssGetLastError();
   EXPECT_EQ(ssReleaseContext(loaded), SS_OK);
 }
 

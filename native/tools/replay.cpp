@@ -51,6 +51,7 @@ struct Options {
   int irradianceResolution = -1;      // -1: as saved; 0: automatic
   float epsilon = 0.0f, alpha = 0.0f, z0 = 0.0f, targetError = 0.0f;  // 0: as saved
   uint32_t referenceSamples = 0;
+  int atlas = -1;  // PRECOMPUTED's atlas: -1 as saved, else SS_ATLAS_*
   bool reference = true;
   double budget = 0.0;  // splatting budget per render, millions of fragment invocations; 0: none
   std::string json, images;
@@ -78,6 +79,8 @@ struct Options {
                "                          viewport does, and each run reports its renders (docs/VIEWPORT.md)\n"
                "  --no-reference          skip REFERENCE and the error columns\n"
                "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
+               "  --atlas uv|made         PRECOMPUTED's atlas: the meshes' UV maps where they fit, or made\n"
+               "                          as for meshes without (default: as saved)\n"
                "  --json FILE             write every figure as JSON\n"
                "  --images DIR            write each method's image and exitance pass as\n"
                "                          DIR/<scene>_<method>.pfm and DIR/<scene>_<method>_exitance.pfm\n");
@@ -153,6 +156,10 @@ Options parse(int argc, char** argv) {
       o.reference = false;
     } else if (a == "--reference-samples") {
       o.referenceSamples = uint32_t(parseInt(value(), "reference samples"));
+    } else if (a == "--atlas") {
+      std::string text = value();
+      if (text != "uv" && text != "made") usage("--atlas wants uv or made, got " + text);
+      o.atlas = text == "uv" ? SS_ATLAS_UV_MAP : SS_ATLAS_MADE;
     } else if (a == "--json") {
       o.json = value();
     } else if (a == "--images") {
@@ -275,6 +282,7 @@ SsSettings settingsFor(const SsSettings& saved, const Options& options, const Va
   if (options.z0 > 0.0f) settings.z0_factor = options.z0;
   if (options.targetError > 0.0f) settings.target_error = options.targetError;
   if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
+  if (options.atlas >= 0) settings.precomputed_atlas = options.atlas;
   return settings;
 }
 
@@ -308,10 +316,11 @@ Image render(SsContext context, const SsSettings& settings, int width, int heigh
       if (ssGetPrecomputedObjects(context, objects, 64, &count) == SS_OK)
         for (uint32_t i = 0; i < count && i < 64; ++i)
           std::printf("    object %u: %u vertices, %llu texels of %.4g units, local range %.4g units, %llu factors, "
-                      "%.0f MiB\n",
+                      "%.0f MiB, %d charts (%d islands of its UV map, %d refused)\n",
                       objects[i].object_id, objects[i].vertices, (unsigned long long)objects[i].texels,
                       objects[i].texel_size, objects[i].local_range, (unsigned long long)objects[i].factors,
-                      double(objects[i].bytes) / 1048576.0);
+                      double(objects[i].bytes) / 1048576.0, objects[i].charts, objects[i].uv_charts,
+                      objects[i].uv_islands_refused);
     }
     if (r.renders == 0) r.firstMs = stats.frame_ms;
     ++r.renders;

@@ -89,11 +89,37 @@ class PrecomputationAcrossRenders(unittest.TestCase):
         stats = self.render(scene, 3)
         self.assertFalse(stats["context_kept"] or stats["transport_reused"], "another method released it")
 
+        # the UV sphere's map is stretched at its poles: its atlas is made (docs/PRECOMPUTED.md)
+        self.assertEqual(objects[0]["uv_charts"], 0)
+        self.assertGreaterEqual(objects[0]["uv_islands_refused"], 1)
+        self.assertGreater(objects[0]["charts"], 1)
+
         scene, _material, _path = sphere_scene("deforming_in_process", deforming=True)
         for frame in (1, 2, 3):
             stats = self.render(scene, frame)
             self.assertFalse(stats["transport_reused"], f"frame {frame} of a deforming mesh reused")
             self.assertGreater(stats["precompute_ms"], 0)
+
+
+    def test_the_meshs_uv_map_is_the_atlas_where_it_fits(self):
+        """A cylinder's UV map (Blender's: the side unrolled, a disc a cap) is its atlas, three charts;
+        Atlas 'Made' charts it by its normals, and changing it precomputes again."""
+        scene, _material, _path = sphere_scene("uv_cylinder", deforming=False)
+        bpy.data.objects.remove(bpy.data.objects["Sphere"])
+        bpy.ops.mesh.primitive_cylinder_add(vertices=32, radius=0.8, depth=1.5, rotation=(0.9, 0.0, 0.0))
+        cylinder = bpy.context.object
+        cylinder.data.materials.append(bpy.data.materials["Skin"])
+        stats = self.render(scene, 1)
+        (own,) = stats["precomputed_objects"]
+        self.assertEqual((own["name"], own["charts"], own["uv_charts"], own["uv_islands_refused"]),
+                         ("Cylinder", 3, 3, 0))
+        scene.subsplat.precomputed_atlas = "MADE"
+        stats = self.render(scene, 1)
+        self.assertFalse(stats["transport_reused"], "the atlas setting changed")
+        (made,) = stats["precomputed_objects"]
+        self.assertEqual(made["uv_charts"], 0)
+        self.assertGreater(made["charts"], 3)
+        self.assertLess(own["texels"], made["texels"])
 
 
 class AnimationEqualsSingleFrames(unittest.TestCase):

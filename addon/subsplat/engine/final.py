@@ -235,7 +235,9 @@ def precomputed_object_line(o):
     return (f"SubSplat Precomputed: object '{o['name']}' precomputed in {o['precompute_ms'] / 1e3:.1f} s: "
             f"{o['bytes'] / 2**20:.0f} MiB ({o['texels']} texels of {o['texel_size']:.3g} units, "
             f"{o['kernel_taps'] / 1e6:.1f} M kernel taps, {o['factors'] / 1e6:.1f} M factors over "
-            f"{o['vertices']} vertices)")
+            f"{o['vertices']} vertices; {o['charts']} charts, {o['uv_charts']} of them islands of its UV map"
+            + (f", {o['uv_islands_refused']} islands too stretched or overlapping" if o['uv_islands_refused'] else "")
+            + ")")
 
 
 def scene_file_path(setting, frame):

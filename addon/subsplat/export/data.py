@@ -135,3 +135,4 @@ class Settings:
     filter_width: float = 0.0
     first_sample: int = 0
     shadow_resolution: int = 0
+    precomputed_atlas: str = "UV_MAP"  # PRECOMPUTED's atlas: "UV_MAP" where it fits, or "MADE"

@@ -28,6 +28,7 @@ def render_settings(scene, debug_passes=False, method=None, viewport_sample=None
     warnings = warnings if warnings is not None else []
     result.filter_width = filter_width(scene, warnings)
     result.shadow_resolution = settings.shadow_resolution
+    result.precomputed_atlas = settings.precomputed_atlas
     if 0 < settings.shadow_resolution < 16:  # below the library's range: the smallest it takes
         warnings.append(f"Shadow Resolution {settings.shadow_resolution} is below 16 texels; it is rendered at 16")
         result.shadow_resolution = 16

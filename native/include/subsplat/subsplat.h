@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 23
+#define SS_API_VERSION 24
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -241,7 +241,13 @@ typedef struct SsSettings {
    * automatic, the render's larger side rounded up to a power of two, at most 2048, and never
    * coarser than the irradiance buffer, whose own map it then is (docs/SOFT_SHADOWS.md). */
   int32_t shadow_resolution;
+  /* SS_METHOD_PRECOMPUTED's atlas (API 24; docs/PRECOMPUTED.md, "The mesh's own UV map"):
+   * SS_ATLAS_UV_MAP (0) takes each island of a mesh's UV map that fits as a chart and charts the
+   * rest; SS_ATLAS_MADE (1) charts every mesh as if it had no UV map. */
+  int32_t precomputed_atlas;
 } SsSettings;
+
+typedef enum SsAtlasSource { SS_ATLAS_UV_MAP = 0, SS_ATLAS_MADE = 1 } SsAtlasSource;
 
 /* Per-stage figures of the last render. Times from GL timer queries. */
 #define SS_STAGE_COUNT 4
@@ -336,6 +342,10 @@ typedef struct SsPrecomputedObject {
   float texel_size;        /* scene units */
   float local_range;       /* the local kernels' reach, scene units */
   double precompute_ms;    /* its share of the precomputation's wall time */
+  /* API 24: the atlas's charts, and of them the islands of the mesh's UV map (docs/PRECOMPUTED.md,
+   * "The mesh's own UV map"); the islands that are too stretched, fold or overlap themselves are
+   * charted as a mesh without UVs is, and counted in uv_islands_refused. */
+  int32_t charts, uv_charts, uv_islands_refused;
 } SsPrecomputedObject;
 
 /* Images of the last render besides the result, same size, bottom row first. */

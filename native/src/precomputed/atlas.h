@@ -1,6 +1,8 @@
 // The texture atlas of one mesh for PRECOMPUTED (Lensch et al. 2002, Section 5.1;
 // docs/PRECOMPUTED.md, "The atlas"):
 //
+//  0. With the mesh's UV map, each of its islands (cut at creases, kCreaseDegrees) that fits
+//     (below, kMaxUvStretch) is a chart: its UVs scaled to world units. Steps 1 and 2 chart the rest.
 //  1. Charts: starting from the first triangle not yet in one, a chart grows over shared edges
 //     while each triangle's normal is within kMaxDeviationDegrees of the chart's mean normal.
 //  2. Each chart is projected orthographically onto the plane of its mean normal, and turned so
@@ -45,6 +47,8 @@ struct Atlas {
   int border = 0;             // texels of border around each chart's core
   std::vector<AtlasTexel> texels;  // row by row
   int charts = 0;
+  int uvCharts = 0;          // of them, islands of the mesh's UV map (the first uvCharts)
+  int uvIslandsRefused = 0;  // islands charted as if there were no UV map (stretched, folded, overlapping)
   struct Rect {
     glm::ivec2 origin{0}, size{0};  // the chart's rectangle, border included
   };
@@ -72,11 +76,22 @@ constexpr float kMaxDeviationDegrees = 30.0f;
 // unfold across (a cylinder's rim; a smooth surface's neighbours are a few degrees apart).
 constexpr float kCreaseDegrees = 60.0f;
 
+// The mesh's own UV map (docs/PRECOMPUTED.md, "The mesh's own UV map"): an island is a chart when
+// each of its triangles, its UVs scaled by the island's ratio of world to UV area, is stretched by
+// at most this factor along any direction and shrunk by at most its inverse (so a texel's extent on
+// the surface stays within 1.5 of the texel chosen for the profile), when its triangles all have
+// one winding, and when no texel's square holds more than kMaxUvCover of its core (of the square's
+// area: the island wraps over itself). Not fitted to any scene.
+constexpr float kMaxUvStretch = 1.5f;
+constexpr float kMaxUvCover = 1.01f;
+
 // The atlas of a mesh in world space (positions, 3 indices a triangle); `include` says which
 // triangles are in it (translucent ones). Texel side `texel` (world units) and `border` texels.
-// Throws Error(SS_LIMIT_EXCEEDED) past maxTexels texels.
+// With `uvs` (one a vertex), the UV map's islands that fit are charts (step 0 above); the rest are
+// charted as without. Throws Error(SS_LIMIT_EXCEEDED) past maxTexels texels.
 Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices,
-                 const std::vector<char>& include, float texel, int border, size_t maxTexels);
+                 const std::vector<char>& include, float texel, int border, size_t maxTexels,
+                 const std::vector<glm::vec2>* uvs = nullptr);
 
 // Welds the corners that share a position: the index of each vertex's first copy.
 std::vector<uint32_t> weldVertices(const std::vector<glm::vec3>& positions);

@@ -483,8 +483,9 @@ bool PrecomputedTransport::rigidMove(const glm::mat4& from, const glm::mat4& to)
   return glm::determinant(a) > 0.0f;
 }
 
-bool PrecomputedTransport::serves(const Scene& scene) const {
-  if (!valid_ || meshHash_ != hashMeshes(scene) || materialSignature_ != signature(scene)) return false;
+bool PrecomputedTransport::serves(const Scene& scene, bool ownUvs) const {
+  if (!valid_ || ownUvs != ownUvs_ || meshHash_ != hashMeshes(scene) || materialSignature_ != signature(scene))
+    return false;
   std::vector<glm::mat4> now = transforms(scene);
   if (now.size() != transforms_.size()) return false;
   for (size_t i = 0; i < now.size(); ++i)
@@ -499,8 +500,10 @@ void PrecomputedTransport::clear() {
   rayIdentity_.clear();
 }
 
-void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress) {
+void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress,
+                                      bool ownUvs) {
   clear();
+  ownUvs_ = ownUvs;
   rays_ = std::make_unique<RayScene>(scene);
   rayIdentity_ = identity(scene);
   const std::vector<MaterialEntry>& entries = scene.denseMaterials();
@@ -747,7 +750,8 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
         taps = M_PI * (radius + 0.5) * (radius + 0.5);
         size_t maxTexels = std::max<size_t>(size_t(double(atlasLeft) / (taps * kTapBytes + kTexelBytes)), 4096);
         try {
-          object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels);
+          object.atlas = buildAtlas(wm.positions, *wm.indices, include, object.size.texel, kBorderTexels, maxTexels,
+                                    ownUvs && wm.mesh->hasUvs() ? &wm.mesh->cpuUvs : nullptr);
           break;
         } catch (const Error& e) {
           if (e.status() != SS_LIMIT_EXCEEDED) throw;

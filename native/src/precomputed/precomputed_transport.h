@@ -66,13 +66,15 @@ class PrecomputedTransport {
   ~PrecomputedTransport();
   PrecomputedTransport(const PrecomputedTransport&) = delete;
   PrecomputedTransport& operator=(const PrecomputedTransport&) = delete;
-  // Whether the precomputation is for this scene's meshes and materials (lights, camera, settings,
-  // textures and opaque meshes may differ, and a translucent object may have moved rigidly).
-  bool serves(const Scene& scene) const;
+  // Whether the precomputation is for this scene's meshes and materials, and its atlases were made
+  // with (ownUvs) or without the meshes' UV maps (lights, camera, other settings, textures and
+  // opaque meshes may differ, and a translucent object may have moved rigidly).
+  bool serves(const Scene& scene, bool ownUvs = true) const;
   // Whether `to` is `from` turned and moved, not scaled, sheared or mirrored (within 1e-5).
   static bool rigidMove(const glm::mat4& from, const glm::mat4& to);
-  // Precomputes for every translucent object of `scene` (materials resolved) within `maxBytes`.
-  void precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress);
+  // Precomputes for every translucent object of `scene` (materials resolved) within `maxBytes`;
+  // ownUvs: each mesh's UV map's islands that fit are charts of its atlas (buildAtlas).
+  void precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress, bool ownUvs = true);
   // One frame under the scene's lights.
   void relight(const Scene& scene, const ProgressFunction& progress);
   void clear();
@@ -110,6 +112,7 @@ class PrecomputedTransport {
  private:
   std::vector<Object> objects_;
   bool valid_ = false;
+  bool ownUvs_ = true;
   uint64_t meshHash_ = 0;
   std::vector<double> materialSignature_;
   std::vector<glm::mat4> transforms_;  // the translucent meshes' at the precomputation
