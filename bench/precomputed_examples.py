@@ -4,7 +4,7 @@ costs once it is made, and how far it is from REFERENCE and from the physical tr
 
   BLENDER_USER_SCRIPTS=build/scripts blender -b --factory-startup --addons subsplat \
       --python bench/precomputed_examples.py -- [--scenes ...] [--models DIPOLE TABULATED] \
-      [--percentage 10] [--runs 3] [--output bench/results/precomputed_examples]
+      [--percentage 10] [--runs 3] [--atlas UV_MAP|MADE] [--output bench/results/precomputed_examples]
 
 Each example with a physical truth (bench/tradeoff.py's CONVERTIBLE ones, as their physical variant:
 eta 1, specular 0, world black; the committed converged Cycles twin image
@@ -55,6 +55,8 @@ def arguments():
     parser.add_argument("--models", nargs="+", default=["DIPOLE", "TABULATED"], choices=("DIPOLE", "TABULATED"))
     parser.add_argument("--percentage", type=int, default=10)
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--atlas", default="UV_MAP", choices=("UV_MAP", "MADE"),
+                        help="PRECOMPUTED's atlas (scene.subsplat.precomputed_atlas)")
     parser.add_argument("--output", default=os.path.join(ROOT, "bench", "results", "precomputed_examples"))
     parser.add_argument("--chart", default=os.path.join(ROOT, "docs", "images", "precomputed_examples.png"))
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
@@ -96,6 +98,7 @@ def measure(name, model, args):
     scene, notes = physical.example_case(name, args.percentage, bounce=False, profile_model=model)
     scene.subsplat.samples = 1
     scene.subsplat.quality = "AUTO"
+    scene.subsplat.precomputed_atlas = args.atlas
     truth, _record = twin_truth.load(f"tradeoff_{name}_{args.percentage}")
     _image, _exitance, automatic = render(scene, "FULL")
     scene.subsplat.irradiance_resolution = automatic["irradiance_resolution"]  # makes the quality manual
@@ -239,7 +242,7 @@ def main():
               "cpu": next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
                           "unknown"),
               "blender": bpy.app.version_string, "commit": commit.stdout.strip() or None,
-              "percentage": args.percentage, "runs": args.runs, "rows": rows}
+              "percentage": args.percentage, "runs": args.runs, "atlas": args.atlas, "rows": rows}
     with open(os.path.join(args.output, "precomputed_examples.json"), "w") as f:
         json.dump(record, f, indent=1)
     print(table(rows))
