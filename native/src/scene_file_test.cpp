@@ -81,6 +81,18 @@ class SceneFile : public ::testing::Test {
     writeBytes(out, out.size());
     return settings;
   }
+  // An opaque lit sphere under `settings`, saved and loaded into a fresh context (`loaded`, the
+  // caller's to release): `got`, the settings it read.
+  void saveAndLoad(const SsSettings& settings, SsContext& loaded, SsSettings& got) {
+    SsMaterialDesc opaque{};
+    opaque.kind = SS_MATERIAL_OPAQUE;
+    ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
+    ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssNewContext(&loaded), SS_OK);
+    ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+    ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  }
   // Drops payload[from, from + count).
   static void erase(std::vector<char>& payload, size_t from, size_t count) {
     payload.erase(payload.begin() + std::ptrdiff_t(from), payload.begin() + std::ptrdiff_t(from + count));
@@ -251,21 +263,14 @@ TEST_F(SceneFile, FormatOneFilesStillLoad) {
 // Format 5 keeps the anti-aliasing settings; format 4 (before them) loads as one sample at the
 // pixel's centre with Blender's default filter, its other settings as written.
 TEST_F(SceneFile, AntiAliasingSettingsRoundTripAndFormatFourTakesOneSample) {
-  SsMaterialDesc opaque{};
-  opaque.kind = SS_MATERIAL_OPAQUE;
-  ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
   SsSettings settings = ssDefaultSettings();
   settings.target_error = 0.05f;
   settings.samples = 8;
   settings.filter_width = 2.5f;
   settings.first_sample = 3;
-  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
-  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
   SsContext loaded = nullptr;
-  ASSERT_EQ(ssNewContext(&loaded), SS_OK);
-  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
   SsSettings got{};
-  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  ASSERT_NO_FATAL_FAILURE(saveAndLoad(settings, loaded, got));
   EXPECT_EQ(got.samples, 8);
   EXPECT_FLOAT_EQ(got.filter_width, 2.5f);
   EXPECT_EQ(got.first_sample, 3);
@@ -286,19 +291,12 @@ TEST_F(SceneFile, AntiAliasingSettingsRoundTripAndFormatFourTakesOneSample) {
 // PRECOMPUTED's atlas setting (format 8) round trips; a format 7 file, which has none, takes the
 // UV map where it fits (the default).
 TEST_F(SceneFile, PrecomputedAtlasRoundTripsAndFormatSevenTakesTheUvMap) {
-  SsMaterialDesc opaque{};
-  opaque.kind = SS_MATERIAL_OPAQUE;
-  ASSERT_EQ(testing::setLitSphere(context, sphere, opaque), SS_OK);
   SsSettings settings = ssDefaultSettings();
   EXPECT_EQ(settings.precomputed_atlas, SS_ATLAS_UV_MAP);
   settings.precomputed_atlas = SS_ATLAS_MADE;
-  ASSERT_EQ(ssSetSettings(context, &settings), SS_OK) << ssGetLastError();
-  ASSERT_EQ(ssSaveScene(context, path.c_str()), SS_OK) << ssGetLastError();
   SsContext loaded = nullptr;
-  ASSERT_EQ(ssNewContext(&loaded), SS_OK);
-  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
   SsSettings got{};
-  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  ASSERT_NO_FATAL_FAILURE(saveAndLoad(settings, loaded, got));
   EXPECT_EQ(got.precomputed_atlas, SS_ATLAS_MADE);
   ASSERT_EQ(rewriteAs(7, [](uint32_t, std::vector<char>&) {}), 1);
   ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
