@@ -235,9 +235,19 @@ def precomputed_object_line(o):
     return (f"SubSplat Precomputed: object '{o['name']}' precomputed in {o['precompute_ms'] / 1e3:.1f} s: "
             f"{o['bytes'] / 2**20:.0f} MiB ({o['texels']} texels of {o['texel_size']:.3g} units, "
             f"{o['kernel_taps'] / 1e6:.1f} M kernel taps, {o['factors'] / 1e6:.1f} M factors over "
-            f"{o['vertices']} vertices; {o['charts']} charts, {o['uv_charts']} of them islands of its UV map"
-            + (f", {o['uv_islands_refused']} islands too stretched or overlapping" if o['uv_islands_refused'] else "")
-            + ")")
+            f"{o['vertices']} vertices; {atlas_charts(o)})")
+
+
+def atlas_charts(o):
+    """What a PRECOMPUTED object's atlas is made of (docs/PRECOMPUTED.md, "The mesh's own UV map")."""
+    text = f"{o['charts']} chart{'s' if o['charts'] != 1 else ''}"
+    if o["uv_charts"]:
+        text += f", {o['uv_charts']} of them from its UV map"
+    refused = o["uv_islands_refused"]
+    if refused:
+        text += (f"; {refused} UV island{'s' if refused != 1 else ''} charted by normals (stretched over 1.5 times, "
+                 "folded or over itself)")
+    return text
 
 
 def scene_file_path(setting, frame):
