@@ -387,8 +387,8 @@ PrecomputationSize choosePrecomputation(double area, double edge, double support
   double local = std::min(PrecomputedTransport::kLocalEdges * edge, support);
   if (!(local > 0.0)) local = std::max(edge, 1e-9);
   size.localRange = float(local);
-  const double wanted = std::min(detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
-                                 local / PrecomputedTransport::kMinRadius);
+  const double wanted = std::min({detail > 0.0 ? PrecomputedTransport::kDetailTexel * detail : local,
+                                  local / PrecomputedTransport::kMinRadius, PrecomputedTransport::kEdgeTexel * edge});
   double texel = std::max(local / PrecomputedTransport::kMaxRadius, wanted);
   auto radiusFor = [&](double t) {
     return std::clamp(int(std::ceil(local / t - 1e-6)), PrecomputedTransport::kMinRadius, PrecomputedTransport::kMaxRadius);

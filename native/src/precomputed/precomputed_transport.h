@@ -54,6 +54,10 @@ class PrecomputedTransport {
   // texel's own (its record, kernel start, outputs, direct weights, indices).
   static constexpr double kTapBytes = 16.0, kFactorBytes = 16.0, kTexelBytes = 96.0;
   static constexpr double kDetailTexel = 0.7;  // the texel, of the finest half-energy radius
+  // ... and at most this share of the mean edge: the irradiance changes from facet to facet (each
+  // its own normal), and a texel wider than a facet blurs that under a profile whose peak is
+  // narrower (docs/PRECOMPUTED.md, "Sizes"; chosen on the calibration set).
+  static constexpr double kEdgeTexel = 0.5;
   static constexpr double kFactorThreshold = 1e-6;
   static constexpr double kLocalEdges = 4.0;  // the local response reaches this many mean edges
   // The most kernel taps of an object (64 MiB of them) whose texel is finer than kMaxRadius
