@@ -84,6 +84,7 @@ float clippedArea(const std::array<glm::vec2, 3>& q, float x, float y, glm::vec2
 struct ChartBuild {
   std::vector<uint32_t> core;                    // triangles
   int island = -1;                               // the UV map's island it is, or -1 (made)
+  glm::vec3 normal{0.0f}, u{0.0f}, v{0.0f};      // made: the mean normal, the projection's axes
   std::vector<std::pair<uint32_t, std::array<glm::vec2, 3>>> placed;  // core first, then border (unfolded)
   glm::vec2 lo{0.0f}, hi{0.0f};                  // core bounds in chart texels
   glm::ivec2 size{0};
@@ -228,10 +229,10 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
     const float cosLimit = std::cos(glm::radians(kMaxDeviationDegrees));
     const float kCreaseCosine = std::cos(glm::radians(kCreaseDegrees));
 
-    // 1. Charts: the islands that fit, then charts grown over the rest, each with its triangles'
-    // corners in the plane (world units): UVs scaled, or projected onto the chart's mean normal.
+    // 1. Charts: the islands that fit (their triangles' corners in the plane: UVs scaled to world
+    // units), then charts grown over the rest (projected onto their mean normal, step 2).
     std::vector<ChartBuild> charts;
-    std::vector<std::vector<std::array<glm::vec2, 3>>> flat;  // per chart, per core triangle
+    std::vector<std::vector<std::array<glm::vec2, 3>>> flat;  // per island chart, per core triangle
     for (size_t i = 0; i < islands.size(); ++i) {
       if (islands[i].refused) continue;
       const int id = int(charts.size());
@@ -269,40 +270,51 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
             queue.push_back(n);
           }
       }
-      glm::vec3 n = glm::normalize(sum);
-      glm::vec3 axis = std::abs(n.x) < 0.6f ? glm::vec3(1, 0, 0) : std::abs(n.y) < 0.6f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
-      glm::vec3 u = glm::normalize(glm::cross(n, axis)), v = glm::cross(n, u);
-      flat.emplace_back();
-      for (uint32_t t : chart.core) {
-        std::array<glm::vec2, 3> q;
-        const std::array<glm::vec3, 3> p = cornerPositions(t);
-        for (int k = 0; k < 3; ++k) q[size_t(k)] = glm::vec2(glm::dot(p[size_t(k)], u), glm::dot(p[size_t(k)], v));
-        flat.back().push_back(q);
-      }
+      chart.normal = glm::normalize(sum);
+      glm::vec3 axis = std::abs(chart.normal.x) < 0.6f   ? glm::vec3(1, 0, 0)
+                       : std::abs(chart.normal.y) < 0.6f ? glm::vec3(0, 1, 0)
+                                                         : glm::vec3(0, 0, 1);
+      chart.u = glm::normalize(glm::cross(chart.normal, axis)), chart.v = glm::cross(chart.normal, chart.u);
     }
 
-    // 2. Each chart turned to the least bounding box, in texels.
+    // 2. Each chart in texels, turned to the least bounding box: a made chart projected onto the
+    // plane of its mean normal, an island as its scaled UVs.
     for (size_t ci = 0; ci < charts.size(); ++ci) {
       ChartBuild& chart = charts[ci];
+      std::vector<glm::vec2> points;
+      for (size_t i = 0; i < chart.core.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const glm::vec3& p = positions[indices[3 * size_t(chart.core[i]) + size_t(k)]];
+          points.push_back(chart.island < 0 ? glm::vec2(glm::dot(p, chart.u) / texel, glm::dot(p, chart.v) / texel)
+                                            : flat[ci][i][size_t(k)] / texel);
+        }
       float best = INFINITY, bestAngle = 0.0f;
       for (int step = 0; step < 90; ++step) {
         float a = glm::radians(float(step)), c = std::cos(a), s = std::sin(a);
         glm::vec2 lo(INFINITY), hi(-INFINITY);
-        for (const auto& q : flat[ci])
-          for (const glm::vec2& p : q) {
-            glm::vec2 r(c * p.x - s * p.y, s * p.x + c * p.y);
-            lo = glm::min(lo, r), hi = glm::max(hi, r);
-          }
-        float area = (hi.x - lo.x + texel) * (hi.y - lo.y + texel);
+        for (const glm::vec2& p : points) {
+          glm::vec2 r(c * p.x - s * p.y, s * p.x + c * p.y);
+          lo = glm::min(lo, r), hi = glm::max(hi, r);
+        }
+        float area = (hi.x - lo.x + 1.0f) * (hi.y - lo.y + 1.0f);
         if (area < best) best = area, bestAngle = a;
       }
       const float c = std::cos(bestAngle), s = std::sin(bestAngle);
+      if (chart.island < 0) {
+        const glm::vec3 u = chart.u, v = chart.v;
+        chart.u = c * u - s * v, chart.v = s * u + c * v;
+      }
       glm::vec2 lo(INFINITY), hi(-INFINITY);
       for (size_t i = 0; i < chart.core.size(); ++i) {
         std::array<glm::vec2, 3> q;
         for (int k = 0; k < 3; ++k) {
-          const glm::vec2& p = flat[ci][i][size_t(k)];
-          q[size_t(k)] = glm::vec2(c * p.x - s * p.y, s * p.x + c * p.y) / texel;
+          if (chart.island < 0) {
+            const glm::vec3& p = positions[indices[3 * size_t(chart.core[i]) + size_t(k)]];
+            q[size_t(k)] = glm::vec2(glm::dot(p, chart.u), glm::dot(p, chart.v)) / texel;
+          } else {
+            const glm::vec2& p = points[3 * i + size_t(k)];
+            q[size_t(k)] = glm::vec2(c * p.x - s * p.y, s * p.x + c * p.y);
+          }
           lo = glm::min(lo, q[size_t(k)]), hi = glm::max(hi, q[size_t(k)]);
         }
         chart.placed.emplace_back(chart.core[i], q);
@@ -409,10 +421,15 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
         if (core)
           for (int k = 0; k < 3; ++k) atlas.cornerTexel[3 * size_t(t) + size_t(k)] = q[size_t(k)] + offset;
         // World area per atlas area (texels^2): texel^2 / cos for a projected chart, the island's
-        // stretch for a UV chart (no less than a tenth of a texel's area per texel).
-        const float mapped = 0.5f * std::abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y));
-        const float world = 0.5f * glm::length(cross[t]);
-        const float areaScale = world / std::max(mapped, 0.1f * world / texelArea);
+        // stretch for a UV chart (no more than ten times a texel's area per texel in either).
+        float areaScale = 0.0f;
+        if (chart.island < 0) {
+          areaScale = texelArea / std::max(std::abs(glm::dot(glm::normalize(cross[t]), chart.normal)), 0.1f);
+        } else {
+          const float mapped = 0.5f * std::abs((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[2].x - q[0].x) * (q[1].y - q[0].y));
+          const float world = 0.5f * glm::length(cross[t]);
+          areaScale = world / std::max(mapped, 0.1f * world / texelArea);
+        }
         glm::ivec2 lo = glm::max(glm::ivec2(glm::floor(glm::min(q[0], glm::min(q[1], q[2])))), glm::ivec2(0));
         glm::ivec2 hi = glm::min(glm::ivec2(glm::ceil(glm::max(q[0], glm::max(q[1], q[2])))), rect.size - 1);
         for (int ty = lo.y; ty <= hi.y; ++ty)
