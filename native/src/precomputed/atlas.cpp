@@ -155,24 +155,18 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
   // (docs/PRECOMPUTED.md, "The mesh's own UV map"): its UVs scaled to world units, every triangle's stretch within
   // kMaxUvStretch either way, one winding, and (checked when rasterized, below) no texel covered
   // twice. The rest are charted as below.
+  const float kCreaseCosine = std::cos(glm::radians(kCreaseDegrees));
   std::vector<Island> islands;
   std::vector<int> islandOf(triangles, -1);
   if (uvs) {
-    const float tolerance = 1e-5f, creaseCosine = std::cos(glm::radians(kCreaseDegrees));
+    const float tolerance = 1e-5f;  // (UVs are finite: ssSetMesh checks them)
     auto uvAt = [&](size_t t, uint32_t welded) {
       for (int k = 0; k < 3; ++k)
         if (corner(t, k) == welded) return (*uvs)[indices[3 * t + size_t(k)]];
       return glm::vec2(NAN);
     };
-    auto finiteUvs = [&](size_t t) {
-      for (int k = 0; k < 3; ++k) {
-        glm::vec2 w = (*uvs)[indices[3 * t + size_t(k)]];
-        if (!std::isfinite(w.x) || !std::isfinite(w.y)) return false;
-      }
-      return true;
-    };
     for (size_t seed = 0; seed < triangles; ++seed) {
-      if (!usable[seed] || islandOf[seed] >= 0 || !finiteUvs(seed)) continue;
+      if (!usable[seed] || islandOf[seed] >= 0) continue;
       const int id = int(islands.size());
       islands.emplace_back();
       std::deque<uint32_t> queue{uint32_t(seed)};
@@ -184,12 +178,12 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
         for (int k = 0; k < 3; ++k) {
           uint32_t a = corner(t, k), b = corner(t, (k + 1) % 3);
           for (uint32_t n : edges[edgeKey(a, b)]) {
-            if (islandOf[n] >= 0 || !finiteUvs(n)) continue;
+            if (islandOf[n] >= 0) continue;
             if (glm::length(uvAt(t, a) - uvAt(n, a)) > tolerance || glm::length(uvAt(t, b) - uvAt(n, b)) > tolerance)
               continue;
             // Nor across a crease, as the border (step 3): the display's bilinear lookup would blend
             // the faces' exitances.
-            if (glm::dot(cross[t], cross[n]) < creaseCosine * glm::length(cross[t]) * glm::length(cross[n])) continue;
+            if (glm::dot(cross[t], cross[n]) < kCreaseCosine * glm::length(cross[t]) * glm::length(cross[n])) continue;
             islandOf[n] = id;
             queue.push_back(n);
           }
@@ -227,25 +221,17 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
     atlas.chartOfTriangle.assign(triangles, -1);
     atlas.cornerTexel.assign(3 * triangles, glm::vec2(0.0f));
     const float cosLimit = std::cos(glm::radians(kMaxDeviationDegrees));
-    const float kCreaseCosine = std::cos(glm::radians(kCreaseDegrees));
 
-    // 1. Charts: the islands that fit (their triangles' corners in the plane: UVs scaled to world
-    // units), then charts grown over the rest (projected onto their mean normal, step 2).
+    // 1. Charts: the islands that fit (laid out as their scaled UVs, step 2), then charts grown
+    // over the rest (projected onto their mean normal, step 2).
     std::vector<ChartBuild> charts;
-    std::vector<std::vector<std::array<glm::vec2, 3>>> flat;  // per island chart, per core triangle
     for (size_t i = 0; i < islands.size(); ++i) {
       if (islands[i].refused) continue;
       const int id = int(charts.size());
       charts.emplace_back();
       charts.back().island = int(i);
       charts.back().core = islands[i].triangles;
-      flat.emplace_back();
-      for (uint32_t t : islands[i].triangles) {
-        atlas.chartOfTriangle[t] = id;
-        std::array<glm::vec2, 3> q;
-        for (int k = 0; k < 3; ++k) q[size_t(k)] = (*uvs)[indices[3 * size_t(t) + size_t(k)]] * islands[i].scale;
-        flat.back().push_back(q);
-      }
+      for (uint32_t t : islands[i].triangles) atlas.chartOfTriangle[t] = id;
       ++atlas.uvCharts;
     }
     for (const Island& island : islands) atlas.uvIslandsRefused += island.refused ? 1 : 0;
@@ -284,9 +270,10 @@ Atlas buildAtlas(const std::vector<glm::vec3>& positions, const std::vector<uint
       std::vector<glm::vec2> points;
       for (size_t i = 0; i < chart.core.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-          const glm::vec3& p = positions[indices[3 * size_t(chart.core[i]) + size_t(k)]];
+          const uint32_t vertex = indices[3 * size_t(chart.core[i]) + size_t(k)];
+          const glm::vec3& p = positions[vertex];
           points.push_back(chart.island < 0 ? glm::vec2(glm::dot(p, chart.u) / texel, glm::dot(p, chart.v) / texel)
-                                            : flat[ci][i][size_t(k)] / texel);
+                                            : (*uvs)[vertex] * islands[size_t(chart.island)].scale / texel);
         }
       float best = INFINITY, bestAngle = 0.0f;
       for (int step = 0; step < 90; ++step) {
