@@ -810,7 +810,7 @@ TEST(PrecomputedKernels, AChartsEdgeRespondsAsItsNeighbours) {
 TEST(PrecomputedMemory, HoldsAtMostTheBytesItIsGiven) {
   testing::Sphere sphere(24, 12);
   Scene scene;
-  scene.setMaterial(0, testing::skinMaterial(30.0f));
+  scene.setMaterial(0, testing::skinMaterial(10.0f));
   scene.setMesh(3, sphere.desc(glm::vec3(0.0f), 0.3f, 0));
   scene.setMesh(7, sphere.desc(glm::vec3(1.0f, 0.0f, 0.0f), 0.2f, 0));
   scene.resolveMaterials();
