@@ -9,8 +9,8 @@
 //
 // Compiled in variants (pipeline/shading.h: directPrograms_, a gl::ProgramVariants): SOFT_SHADOWS, how this view's
 // shadows are filtered (0 hard, on the shadow map; 1 a sun's soft shadows, on its shadow map; 2 a
-// point, spot or area light's, on the irradiance buffer's resolution), and TRANSMISSION, 1 where
-// some material is TABULATED. llvmpipe runs both sides of a branch whatever the lanes take, so a
+// point, spot or area light's, on the irradiance buffer's resolution), TRANSMISSION, 1 where
+// some material is TABULATED, and AREA_LIGHT, 1 for an area light (its polygon's irradiance). llvmpipe runs both sides of a branch whatever the lanes take, so a
 // uniform's branch cost the whole pass the soft filter's and the light through's code on every
 // pixel (docs/BENCHMARKS.md, "The direct light's variants").
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
@@ -57,7 +57,11 @@ vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t, vec3 tint
   float mu0 = clamp(dot(ne.xyz, towardsLight(pe.xyz)), 0.0, 1.0);
   float mu = clamp(dot(n, V), 0.0, 1.0);
   vec2 entryDepth = texelFetch(irradianceLightDepth, t, 0).rg;  // g: the share of the light reaching the entry
-  vec3 entering = (lightAreaCorners > 0 ? surfaceIrradiance(pe.xyz, ne.xyz) : irradianceFacingLight(pe.xyz) * mu0) *
+#if AREA_LIGHT
+  vec3 entering = surfaceIrradiance(pe.xyz, ne.xyz) *
+#else
+  vec3 entering = irradianceFacingLight(pe.xyz) * mu0 *
+#endif
                   lightWeight(ne.xyz) * fresnelTransmittance(materials[m].optics.x, mu0) * entryDepth.g;
   float thickness = max(depth - entryDepth.r, 0.0) * mu0;  // along the entry's normal
   float leaving = fresnelTransmittance(materials[m].optics.x, mu) * slabLikeness(dot(ne.xyz, n));
@@ -132,7 +136,11 @@ void main() {
     return;
   }
 
-  vec3 E = (lightAreaCorners > 0 ? surfaceIrradiance(p, ns) : irradianceFacingLight(p) * nsl) * visibility * lightWeight(ns);
+#if AREA_LIGHT
+  vec3 E = surfaceIrradiance(p, ns) * visibility * lightWeight(ns);
+#else
+  vec3 E = irradianceFacingLight(p) * nsl * visibility * lightWeight(ns);
+#endif
   float nv = max(dot(ns, V), 1e-4);
   vec3 H = normalize(L + V);
   float roughness = clamp(materials[m].optics.y, 0.02, 1.0);

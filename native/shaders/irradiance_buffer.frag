@@ -12,11 +12,14 @@ uniform float orthoTexelArea;   // sun: texel area perpendicular to the light
 uniform float tanHalfFov;       // point, spot: half-extent of the view plane at distance 1
 uniform float footprintSigma;   // x texel size
 uniform int profileSplits;      // non-zero: write profileSplit
-// Soft shadows on the light entering translucent objects (docs/SOFT_SHADOWS.md): when softEntries is
-// set, opaque surfaces are not drawn here, and each translucent texel's flux is scaled by the share of
-// the light that reaches it past other objects, filtered on softMap (a shadow map of every surface,
+// Soft shadows on the light entering translucent objects (docs/SOFT_SHADOWS.md): in the SOFT_ENTRIES
+// variant, opaque surfaces are not drawn here, and each translucent texel's flux is scaled by the share
+// of the light that reaches it past other objects, filtered on softMap (a shadow map of every surface,
 // with object indices) of softMapResolution texels.
-uniform int softEntries;
+// Compiled in variants (pipeline/irradiance_buffer.h: programs_) besides the scene's: SOFT_ENTRIES,
+// and AREA_LIGHT, 1 for an area light (its polygon's irradiance on the texel). llvmpipe runs every line
+// of a shader on every pixel, taken or not (docs/BENCHMARKS.md, "The direct light's variants"): behind
+// uniforms, the soft filter and the polygon cost every view.
 layout(binding = UNIT_SHADOW_DEPTH) uniform sampler2D softMap;
 uniform int softMapResolution;
 layout(location = 0) out vec4 positionMaterial;  // xyz, material (-1 opaque)
@@ -73,19 +76,21 @@ void main() {
                             pow(1.0 + dot(plane, plane), 1.5);
     float distance2 = dot(lightPosition - worldPosition, lightPosition - worldPosition);
     flux = irradianceFacingLight(worldPosition) * distance2 * texelSolidAngle;
+#if AREA_LIGHT
     // An area light: the polygon's irradiance on the texel's surface, times that surface's area.
     if (lightAreaCorners > 0)
       flux = surfaceIrradiance(worldPosition, n) * distance2 * texelSolidAngle / max(cosShading, 1e-3);
+#endif
     perpendicularArea = texelSolidAngle * distance2;
     lightDepth = vec2(sqrt(distance2), 1.0);
   }
   bool translucent = isTranslucent(material);
-  if (softEntries != 0 && !translucent) discard;
-  if (translucent && softEntries != 0) {
-    lightDepth.g = softVisibilityAt(softMap, softMapResolution, resolution, worldPosition, geometric * sign(dot(geometric, L)),
-                                    abs(dot(geometric, L)), objectIndex);
-    if (lightDepth.g == 0.0) translucent = false;  // in the umbra: no light enters, nothing to splat
-  }
+#if SOFT_ENTRIES
+  if (!translucent) discard;
+  lightDepth.g = softVisibilityAt(softMap, softMapResolution, resolution, worldPosition, geometric * sign(dot(geometric, L)),
+                                  abs(dot(geometric, L)), objectIndex);
+  if (lightDepth.g == 0.0) translucent = false;  // in the umbra: no light enters, nothing to splat
+#endif
   if (translucent) {
     // The colour texture's tint, sqrt(T) as the light enters (final_shading.frag: sqrt(T) as it leaves).
     flux *= fresnelTransmittance(materials[material].optics.x, cosShading) * lightWeight(n) *

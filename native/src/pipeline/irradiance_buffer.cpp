@@ -107,7 +107,7 @@ namespace {
 void setViewUniforms(GLuint p, const LightView& view, int resolution, const SoftEntries& soft) {
   setLightUniforms(p, view);
   glUniform1i(uniform(p, "resolution"), resolution);
-  glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);
+  glUniform1i(uniform(p, "softEntries"), soft.on() ? 1 : 0);  // (entry_points.frag; irradiance_buffer.frag's variant)
   if (soft.on()) {
     setSoftShadowUniforms(p, view);
     glUniform1i(uniform(p, "softMapResolution"), soft.resolution);
@@ -130,7 +130,10 @@ void IrradianceBuffer::renderEntries(const Scene& scene, const GpuScene& gpu, co
 
 void IrradianceBuffer::render(const Scene& scene, const GpuScene& gpu, const LightView& view, const SoftEntries& soft) {
   const glm::vec4 empty(0, 0, 0, -2), zero(0.0f), far(1e30f, 0, 0, 0);
-  GLuint p = sceneVariant(programs_, scene);
+  GLuint p = programs_.get({{"TEXTURES", scene.textured()},
+                            {"PROFILE_MAPS", scene.heterogeneous()},
+                            {"SOFT_ENTRIES", soft.on()},
+                            {"AREA_LIGHT", view.light->type == SS_LIGHT_AREA}});
   if (profileSplits_)
     beginMeshPass(framebuffer_.id(), resolution_, resolution_, {empty, zero, empty, far, zero}, p);
   else

@@ -79,7 +79,7 @@ class IrradianceBuffer {
  private:
   int resolution_ = 0, levels_ = 0;
   bool profileSplits_ = false;
-  gl::ProgramVariants programs_{"mesh.vert", "", "irradiance_buffer.frag"};  // by sceneVariant
+  gl::ProgramVariants programs_{"mesh.vert", "", "irradiance_buffer.frag"};  // the scene's, SOFT_ENTRIES, AREA_LIGHT
   gl::Program entryProgram_, reduceProgram_, exitProgram_, incidenceProgram_;
   gl::Texture positionMaterial_, fluxFootprint_, normalObject_, lightDepth_, depthRange_, depth_, profileSplit_;
   gl::Texture exitDepth_, exitZ_;

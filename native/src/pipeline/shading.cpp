@@ -96,7 +96,9 @@ void Shading::directLighting(const Scene& scene, const LightView& view, const Sh
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
   int softShadows = view.softSize <= 0.0f ? 0 : view.light->type == SS_LIGHT_SUN ? 1 : 2;
-  GLuint p = directPrograms_.get({{"SOFT_SHADOWS", softShadows}, {"TRANSMISSION", scene.tabulated()}});
+  GLuint p = directPrograms_.get({{"SOFT_SHADOWS", softShadows},
+                                  {"TRANSMISSION", scene.tabulated()},
+                                  {"AREA_LIGHT", view.light->type == SS_LIGHT_AREA}});
   glUseProgram(p);
   setLightUniforms(p, view);
   setCameraUniforms(p, scene.camera());
