@@ -10,9 +10,10 @@
 // Compiled in variants (pipeline/shading.h: directPrograms_, a gl::ProgramVariants): SOFT_SHADOWS, how this view's
 // shadows are filtered (0 hard, on the shadow map; 1 a sun's soft shadows, on its shadow map; 2 a
 // point, spot or area light's, on the irradiance buffer's resolution), TRANSMISSION, 1 where
-// some material is TABULATED, and AREA_LIGHT, 1 for an area light (its polygon's irradiance). llvmpipe runs both sides of a branch whatever the lanes take, so a
-// uniform's branch cost the whole pass the soft filter's and the light through's code on every
-// pixel (docs/BENCHMARKS.md, "The direct light's variants").
+// some material is TABULATED, and AREA_LIGHT, 1 for an area light (its polygon's irradiance).
+// llvmpipe runs both sides of a branch whatever the lanes take, so a uniform's branch cost the whole
+// pass the soft filter's, the light through's and the polygon's code on every pixel
+// (docs/BENCHMARKS.md, "The direct light's variants" and "Area lights and soft entries").
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
 layout(binding = UNIT_SPLATTING_ALBEDO) uniform sampler2D splattingAlbedo;
