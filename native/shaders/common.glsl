@@ -319,12 +319,6 @@ vec3 irradianceFacingLight(vec3 p) {
   return e;
 }
 
-// The irradiance on a surface at p of normal n facing the light, max(0, n . L) included.
-vec3 surfaceIrradiance(vec3 p, vec3 n) {
-  if (lightAreaCorners > 0) return lightRadiant * polygonIrradiance(p, n);
-  return irradianceFacingLight(p) * max(dot(n, towardsLight(p)), 0.0);
-}
-
 // Soft shadows (docs/SOFT_SHADOWS.md): sun: the tangent of half its angle; point, spot: its radius,
 // a disk facing the receiver; area: its own shape (lightSoftAxes, its semi-axes in the world; a
 // rectangle or an ellipse); 0: hard. lightNearDepth: the least light depth in the view (the

@@ -59,7 +59,7 @@ vec3 transmitted(vec3 p, vec3 n, int m, float object, vec3 V, ivec2 t, vec3 tint
   float mu = clamp(dot(n, V), 0.0, 1.0);
   vec2 entryDepth = texelFetch(irradianceLightDepth, t, 0).rg;  // g: the share of the light reaching the entry
 #if AREA_LIGHT
-  vec3 entering = surfaceIrradiance(pe.xyz, ne.xyz) *
+  vec3 entering = lightRadiant * polygonIrradiance(pe.xyz, ne.xyz) *
 #else
   vec3 entering = irradianceFacingLight(pe.xyz) * mu0 *
 #endif
@@ -138,7 +138,7 @@ void main() {
   }
 
 #if AREA_LIGHT
-  vec3 E = surfaceIrradiance(p, ns) * visibility * lightWeight(ns);
+  vec3 E = lightRadiant * polygonIrradiance(p, ns) * visibility * lightWeight(ns);
 #else
   vec3 E = irradianceFacingLight(p) * nsl * visibility * lightWeight(ns);
 #endif

@@ -75,11 +75,11 @@ void main() {
     float texelSolidAngle = pow(2.0 * tanHalfFov / float(resolution), 2.0) /
                             pow(1.0 + dot(plane, plane), 1.5);
     float distance2 = dot(lightPosition - worldPosition, lightPosition - worldPosition);
-    flux = irradianceFacingLight(worldPosition) * distance2 * texelSolidAngle;
 #if AREA_LIGHT
     // An area light: the polygon's irradiance on the texel's surface, times that surface's area.
-    if (lightAreaCorners > 0)
-      flux = surfaceIrradiance(worldPosition, n) * distance2 * texelSolidAngle / max(cosShading, 1e-3);
+    flux = lightRadiant * polygonIrradiance(worldPosition, n) * distance2 * texelSolidAngle / max(cosShading, 1e-3);
+#else
+    flux = irradianceFacingLight(worldPosition) * distance2 * texelSolidAngle;
 #endif
     perpendicularArea = texelSolidAngle * distance2;
     lightDepth = vec2(sqrt(distance2), 1.0);
