@@ -310,6 +310,23 @@ double TransportTables::incidence(int c, double tau, double mu0) const {
          fu * ((1 - fv) * texel(i, 2 + k, c) + fv * texel(i + 1, 2 + k, c));
 }
 
+double TransportTables::beamCentroid(int c, double mu0) const {
+  double root = root_[size_t(c)];
+  double t = std::sqrt(std::clamp(mu0, 0.0, 1.0)), x = t * (kHSamples - 1);
+  int k = std::min(int(x), kHSamples - 2);
+  double f = x - k;
+  auto slope = [&](int j) {  // dH/dt at sample j: central, second-order one-sided at the ends
+    const int n = kHSamples - 1;
+    if (j == 0) return (-3.0 * texel(0, 0, c) + 4.0 * texel(1, 0, c) - texel(2, 0, c)) * 0.5 * n;
+    if (j == n) return (3.0 * texel(n, 0, c) - 4.0 * texel(n - 1, 0, c) + texel(n - 2, 0, c)) * 0.5 * n;
+    return (texel(j + 1, 0, c) - texel(j - 1, 0, c)) * 0.5 * n;
+  };
+  double dHdt = (1.0 - f) * slope(k) + f * slope(k + 1);
+  double r = 1.0 - root * h(c, mu0);
+  if (!(albedo_[size_t(c)] > 0.0) || !(r > 0.0)) return 1.0;
+  return 1.0 - root * 0.5 * t * dHdt / r;  // mu0 dH/dmu = (t / 2) dH/dt
+}
+
 double TransportTables::exit(int c, double mu0, double mu) const {
   double a = albedo_[size_t(c)];
   mu0 = std::clamp(mu0, 1e-3, 1.0);

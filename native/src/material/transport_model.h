@@ -134,6 +134,14 @@ class TransportTables {
   double exit(int c, double mu0, double mu) const;
   // T(tau, mu0, mu), 1/sr per unit irradiance; 0 beyond the table's thickest slab.
   double transmitted(int c, double tau, double mu0, double mu) const;
+  // The mean distance along a beam entering the half-space at mu0, in mean free paths, of the first
+  // collision of the light the half-space reflects: s(mu0) = 1 + mu0 R'(mu0) / R(mu0), with
+  // R = 1 - sqrt(1 - a) H (the collision at s lies at depth s mu0, and R(mu0) is the Laplace
+  // transform of the escape probability over depth). After its first collision a path walks
+  // isotropically, so the reflected light's centroid on the surface is s(mu0) sin(theta) ahead of
+  // the entry point along the beam (docs/TRANSPORT.md, "The entry's forward shift"). dH/dt
+  // (t = sqrt(mu)) is the samples' central difference, linear in t between them; 1 at a = 0.
+  double beamCentroid(int c, double mu0) const;
 
  private:
   std::array<double, 3> albedo_{}, extinction_{}, root_{};  // root: sqrt(1 - a)

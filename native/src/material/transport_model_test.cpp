@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <random>
 
 #include "transport/adding_doubling.h"
 #include "transport/hfunction.h"
@@ -96,6 +98,61 @@ TEST(TabulatedModel, AngularFactorsAreTheHFunctions) {
             << "albedo " << a << " mu0 " << mu0 << " mu " << mu;
       }
   }
+}
+
+// The forward shift's length (docs/TRANSPORT.md, "The entry's forward shift"): the mean distance
+// along the beam of the first collision of the reflected light is 1 + mu0 R'(mu0) / R(mu0), R'
+// taken here from the H-function itself by a central difference, the tables' from their samples.
+TEST(TabulatedModel, BeamCentroidIsTheHFunctions) {
+  double worst = 0.0;
+  for (double a : kAlbedos) {
+    TransportTables t = tablesOf(a);
+    HFunction h(a);
+    for (double mu0 : {0.02, 0.1, 0.3, 0.5, 0.8, 0.98}) {
+      const double step = 1e-4;
+      double derivative = (halfSpaceAlbedo(h, mu0 + step) - halfSpaceAlbedo(h, mu0 - step)) / (2.0 * step);
+      double exact = 1.0 + mu0 * derivative / halfSpaceAlbedo(h, mu0);
+      double model = t.beamCentroid(0, mu0);
+      worst = std::max(worst, std::abs(model - exact));
+      EXPECT_NEAR(model, exact, 2e-3) << "albedo " << a << " mu0 " << mu0;
+      EXPECT_GT(model, 0.0);
+      EXPECT_LE(model, 1.0 + 1e-9);  // escaping favours the shallow collisions
+    }
+  }
+  std::printf("beam centroid: worst difference from the H-function's %.2e mfp\n", worst);
+  EXPECT_DOUBLE_EQ(tablesOf(0.0).beamCentroid(0, 0.5), 1.0);
+}
+
+// ... and is where the reflected light leaves: an analog walk of its own in the half-space, the
+// beam entering at the origin along +x at mu0; after the first collision the walk is isotropic, so
+// the mean exit x of the reflected paths is the centroid's distance times sin theta (4 standard
+// errors).
+TEST(TabulatedModel, ReflectedLightIsCentredAheadOfTheEntryByTheBeamCentroid) {
+  std::mt19937_64 random(19);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  auto flight = [&] { return -std::log(1.0 - uniform(random)); };
+  for (double a : {0.7, 0.95})
+    for (double mu0 : {0.2, 0.6}) {
+      double sinTheta = std::sqrt(1.0 - mu0 * mu0);
+      double sum = 0.0, sum2 = 0.0;
+      int reflected = 0;
+      for (int path = 0; path < 100000; ++path) {
+        double s = flight(), x = s * sinTheta, z = s * mu0;  // z: depth
+        while (uniform(random) < a) {
+          double w = 2.0 * uniform(random) - 1.0, phi = 2.0 * M_PI * uniform(random), l = flight();
+          double along = std::sqrt(std::max(1.0 - w * w, 0.0)) * std::cos(phi);
+          if (z + l * w < 0.0) {  // leaves through the surface
+            x += along * (z / -w);
+            sum += x, sum2 += x * x, ++reflected;
+            break;
+          }
+          x += along * l, z += l * w;
+        }
+      }
+      double mean = sum / reflected, error = std::sqrt((sum2 / reflected - mean * mean) / reflected);
+      double model = tablesOf(a).beamCentroid(0, mu0) * sinTheta;
+      EXPECT_NEAR(mean, model, 4.0 * error) << "albedo " << a << " mu0 " << mu0;
+    }
 }
 
 // The exit factor spreads exactly what came in: 2 int X mu dmu = 1.
