@@ -11,7 +11,7 @@ import threading
 
 import numpy as np
 
-API_VERSION = 24  # SS_API_VERSION of subsplat.h
+API_VERSION = 25  # SS_API_VERSION of subsplat.h
 STAGES = ("buffers", "splatting", "shading", "readback")
 
 # The header's enums (subsplat.h), by name.
@@ -136,7 +136,7 @@ class Settings(ctypes.Structure):
                 ("lambda_z", ctypes.c_float), ("lambda_m", ctypes.c_float), ("debug_passes", ctypes.c_int32),
                 ("target_error", ctypes.c_float), ("samples", ctypes.c_int32), ("filter_width", ctypes.c_float),
                 ("first_sample", ctypes.c_int32), ("shadow_resolution", ctypes.c_int32),
-                ("precomputed_atlas", ctypes.c_int32)]
+                ("precomputed_atlas", ctypes.c_int32), ("forward_shift", ctypes.c_int32)]
 
 
 class Stats(ctypes.Structure):
@@ -466,6 +466,7 @@ def _settings(settings):
     result.first_sample = settings.first_sample
     result.shadow_resolution = settings.shadow_resolution
     result.precomputed_atlas = ATLASES[settings.precomputed_atlas]
+    result.forward_shift = 0 if settings.forward_shift else 1  # SS_FORWARD_SHIFT_ON, _OFF
     result.target_error = settings.target_error
     return result
 

@@ -116,6 +116,12 @@ class SubsplatSceneSettings(bpy.types.PropertyGroup):
                 "as if there were no UV map (the render report counts both, docs/PRECOMPUTED.md)"),
                ("MADE", "Made", "Every mesh charted by its normals, as if it had no UV map")],
         description="Precomputed: the texture atlas its kernels and factors are laid out on")
+    forward_shift: BoolProperty(
+        name="Forward Shift", default=True,
+        description="Tabulated materials: the light entering at a slant is reflected ahead of where it enters, "
+                    "along its path in the medium, as a half-space reflects it (the glow past a terminator or a "
+                    "shadow's edge). Off: centred on where it enters, as Material Edit always does "
+                    "(docs/TRANSPORT.md)")
     world_directions: IntProperty(
         name="World Directions", default=0, min=-1, max=64,
         description="The world's light: the directions it casts shadows from (each costs about what a sun "

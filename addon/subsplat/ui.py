@@ -39,6 +39,7 @@ class SUBSPLAT_PT_render(SubsplatPanel, bpy.types.Panel):
         layout.prop(settings, "viewport_scale")
         layout.prop(settings, "world_directions")
         layout.prop(settings, "shadow_resolution")
+        layout.prop(settings, "forward_shift")
         if settings.method == "REFERENCE":
             layout.prop(settings, "reference_samples")
             layout.prop(settings, "scene_file")

@@ -65,6 +65,27 @@ vec3 incidenceFactor(int m, vec3 tau, float mu0) {
   }
   return mix(result, vec3(0.0), lessThanEqual(a, vec3(0.0)));
 }
+// The mean distance along a beam entering at mu0 (mean free paths) of the first collision of the
+// light the half-space reflects, per channel: 1 + mu0 R'(mu0) / R(mu0) (TransportTables::
+// beamCentroid, the same samples and the same interpolation).
+float hSlope(int m, int j, int c) {  // dH/dt at sample j of channel c, t = sqrt(mu)
+  if (j == 0) return (-3.0 * transportTexel(m, 0, 0)[c] + 4.0 * transportTexel(m, 1, 0)[c] - transportTexel(m, 2, 0)[c]) * 16.0;
+  if (j == 32) return (3.0 * transportTexel(m, 32, 0)[c] - 4.0 * transportTexel(m, 31, 0)[c] + transportTexel(m, 30, 0)[c]) * 16.0;
+  return (transportTexel(m, j + 1, 0)[c] - transportTexel(m, j - 1, 0)[c]) * 16.0;
+}
+vec3 beamCentroid(int m, float mu0) {
+  vec3 a = materials[m].medium.rgb, root = sqrt(max(1.0 - a, 0.0));
+  float t = sqrt(clamp(mu0, 0.0, 1.0)), x = t * 32.0;
+  int k = min(int(x), 31);
+  float f = x - float(k);
+  vec3 r = 1.0 - root * hFunction(m, mu0);
+  vec3 s;
+  for (int c = 0; c < 3; ++c) {
+    float slope = mix(hSlope(m, k, c), hSlope(m, k + 1, c), f);
+    s[c] = a[c] > 0.0 && r[c] > 0.0 ? 1.0 - root[c] * 0.5 * t * slope / r[c] : 1.0;
+  }
+  return s;
+}
 // X(mu0, mu): the exit radiance over the Lambertian's, for light that entered at mean cosine mu0.
 vec3 exitFactor(int m, float mu0, float mu) {
   vec3 a = materials[m].medium.rgb, root = sqrt(max(1.0 - a, 0.0));
@@ -301,6 +322,18 @@ float lightWeight(vec3 n) {
 // Direction towards the light and the irradiance a surface facing it gets.
 vec3 towardsLight(vec3 p) {
   return lightType == LIGHT_SUN ? -lightDirection : normalize(lightPosition - p);
+}
+// The TABULATED model's forward shift of the light entering at position p of normal n (facing the
+// light, incidence cosine mu0): the refracted beam's direction along the surface (length
+// sin theta_t) in xyz, and in `lengths` each channel's mean distance along the beam of its first
+// collision (scene units); the reflected light is centred at p + along * lengths[c]
+// (docs/TRANSPORT.md, "The entry's forward shift").
+vec3 forwardShift(int m, vec3 p, vec3 n, float mu0, out vec3 lengths) {
+  vec3 along = (-towardsLight(p) + mu0 * n) / materials[m].optics.x;
+  float muT = sqrt(max(1.0 - min(dot(along, along), 1.0), 0.0));
+  vec3 extinction = materials[m].extinction.rgb;
+  lengths = mix(beamCentroid(m, muT) / max(extinction, vec3(1e-30)), vec3(0.0), lessThanEqual(extinction, vec3(0.0)));
+  return along;
 }
 vec3 irradianceFacingLight(vec3 p) {
   if (lightType == LIGHT_SUN) return lightRadiant;

@@ -12,6 +12,8 @@ in SplatSample {
   vec4 split;
   vec4 normalMu0;
   vec2 slab;
+  vec3 along;
+  vec3 shiftLengths;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

@@ -7,7 +7,8 @@
 // the incidence cosine weighted by the exitance, for the exit factor.
 // Compiled in variants (pipeline/splatting.h: programs_), as direct_lighting.frag is:
 // PAIR_PROFILES 1 where some object has several translucent profiles, TRANSMISSION 1 where some
-// material is TABULATED; llvmpipe runs a branch's code on every fragment, taken or not.
+// material is TABULATED; FORWARD_SHIFT 1 where, besides, the forward shift is on (three kernel
+// lookups, one per channel); llvmpipe runs a branch's code on every fragment, taken or not.
 flat in vec3 splatPosition;
 flat in vec3 splatFlux;
 flat in float splatFootprint;
@@ -16,6 +17,8 @@ flat in int splatMaterial;
 flat in vec4 splatNormalMu0;     // the texel's normal (facing the light) and incidence cosine
 flat in float splatKernelRow;
 flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
+flat in vec3 splatAlong;         // TABULATED: the forward shift (splat.geom); 0 otherwise
+flat in vec3 splatShiftLengths;
 uniform int splatLevel;
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
@@ -38,6 +41,19 @@ vec3 kernelAt(float layer, float support, float d, float row) {
   return texture(splatKernels, vec3(uv, layer)).rgb * (scale * scale);
 }
 
+// Each channel at its own distance: kernelAt's lookup three times, its scale once (in the
+// FORWARD_SHIFT variant only).
+vec3 kernelAt3(float layer, float support, vec3 d, float row) {
+  float sigmaMax = support * exp2(kernelLog2Range.y);
+  float scale = splatFootprint > sigmaMax ? sigmaMax / splatFootprint : 1.0;
+  float reach = footprintReach * splatFootprint * scale + support;
+  vec3 x = sqrt(min(d * (scale / reach), vec3(1.0))) * (kernelTableSize.x - 1.0) + 0.5;
+  float v = (row * (kernelTableSize.y - 1.0) + 0.5) / kernelTableSize.y;
+  vec3 u = x / kernelTableSize.x;
+  return vec3(texture(splatKernels, vec3(u.r, v, layer)).r, texture(splatKernels, vec3(u.g, v, layer)).g,
+              texture(splatKernels, vec3(u.b, v, layer)).b) * (scale * scale);
+}
+
 void main() {
   vec4 po = texelFetch(splattingPositionObject, ivec2(gl_FragCoord.xy), splatLevel);
   // Light does not scatter between separate objects.
@@ -45,8 +61,20 @@ void main() {
   float support = materials[splatMaterial].ranges.x;
   float reach = footprintReach * splatFootprint + support;
   float d = distance(po.xyz, splatPosition);
-  if (d >= reach || d < splatRange.x || d >= splatRange.y) discard;
+  // The levels split the distances from the sample itself; the kernel is evaluated from where
+  // each channel's reflection is centred (the TABULATED model's forward shift).
+  if (d < splatRange.x || d >= splatRange.y) discard;
+#if FORWARD_SHIFT
+  vec3 dc = vec3(distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.r),
+                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.g),
+                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.b));
+  if (min(dc.r, min(dc.g, dc.b)) >= reach) discard;
+  vec3 kernel = kernelAt3(materials[splatMaterial].optics.w, support, dc, splatKernelRow);
+#else
+  if (d >= reach) discard;
+  vec3 dc = vec3(d);
   vec3 kernel = kernelAt(materials[splatMaterial].optics.w, support, d, splatKernelRow);
+#endif
 #if PAIR_PROFILES
   {
     int mo = int(texelFetch(splattingNormalMaterial, ivec2(gl_FragCoord.xy), splatLevel).w);
@@ -54,10 +82,14 @@ void main() {
       if (!isTranslucent(mo)) discard;
       float supportO = materials[mo].ranges.x;
       float reachO = footprintReach * splatFootprint + supportO;
-      if (d >= reachO) discard;
+      if (min(dc.r, min(dc.g, dc.b)) >= reachO) discard;
       float rowO = clamp((log2(splatFootprint / supportO) - kernelLog2Range.x) / (kernelLog2Range.y - kernelLog2Range.x),
                          0.0, 1.0);
+#if FORWARD_SHIFT
+      kernel = sqrt(kernel * kernelAt3(materials[mo].optics.w, supportO, dc, rowO));
+#else
       kernel = sqrt(kernel * kernelAt(materials[mo].optics.w, supportO, d, rowO));
+#endif
     }
   }
 #endif

@@ -15,6 +15,8 @@ in SplatSample {
   vec4 split; // level 0: a second profile's part (splat.vert)
   vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
   vec2 slab;
+  vec3 along;         // TABULATED: the forward shift (splat.vert)
+  vec3 shiftLengths;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
@@ -47,9 +49,16 @@ flat out float splatFootprint;
 flat out float splatObject;
 flat out int splatMaterial;
 flat out vec4 splatNormalMu0;
-// One splat of material entry m at position with the flux and footprint sigma.
+flat out vec3 splatAlong;
+flat out vec3 splatShiftLengths;
+// One splat of material entry m at position with the flux and footprint sigma. Under the TABULATED
+// model the kernel is centred ahead of the sample along the beam (each channel by its own length),
+// so the quad and the last level reach that much further.
 void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
-  float reach = footprintReach * footprint + materials[m].ranges.x;
+  bool shifted = isTabulated(m);
+  vec3 along = shifted ? sampleIn[0].along : vec3(0.0), lengths = shifted ? sampleIn[0].shiftLengths : vec3(0.0);
+  float reach = footprintReach * footprint + materials[m].ranges.x +
+                length(along) * max(lengths.r, max(lengths.g, lengths.b));
   vec3 c = (worldToView * vec4(position, 1.0)).xyz;
   vec2 range = vec2(0.0, reach);
   if (splatLevels > 1) {
@@ -91,6 +100,8 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     splatObject = sampleIn[0].object;
     splatMaterial = m;
     splatNormalMu0 = sampleIn[0].normalMu0;
+    splatAlong = along;
+    splatShiftLengths = lengths;
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 2.0 * far - 1.0, 1.0);
     EmitVertex();
   }

@@ -12,6 +12,8 @@ uniform int levelOffset[9];      // first sample of each level; levelOffset[leve
 // MATERIAL_EDIT's precomputation (transport_splat.geom): each TABULATED sample's slab geometry
 // (common.glsl: slabGeometry) from this view's light and exit depths, at the finest texel under it.
 uniform int slabGeometries;
+// The TABULATED model's forward shift (SsSettings::forward_shift; 0 in MATERIAL_EDIT's transport).
+uniform int forwardShifts;
 layout(binding = UNIT_IRRADIANCE_LIGHT_DEPTH) uniform sampler2D irradianceLightDepth;
 layout(binding = UNIT_IRRADIANCE_EXIT_DEPTH) uniform sampler2D irradianceExitDepth;
 layout(std430, binding = STORAGE_SAMPLE_LIST) readonly buffer SampleList {
@@ -28,6 +30,8 @@ out SplatSample {
   vec4 split; // xyz the offset of a second profile's part, w its entry * 32 + sixteenths (0: none)
   vec4 normalMu0; // the texel's normal (facing the light) and its cosine to the light
   vec2 slab;      // with slabGeometries, TABULATED: slabGeometry at the texel
+  vec3 along;         // TABULATED: the forward shift (common.glsl: forwardShift); 0 otherwise
+  vec3 shiftLengths;
 } sampleOut;
 
 void main() {
@@ -51,6 +55,10 @@ void main() {
   vec4 no = texelFetch(irradianceNormalObject, texel, level);
   sampleOut.object = no.w;
   sampleOut.normalMu0 = vec4(no.xyz, clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0));
+  sampleOut.along = vec3(0.0);
+  sampleOut.shiftLengths = vec3(0.0);
+  if (forwardShifts != 0 && pm.w >= 0.0 && isTabulated(m) && dot(no.xyz, no.xyz) > 0.0)
+    sampleOut.along = forwardShift(m, pm.xyz, normalize(no.xyz), sampleOut.normalMu0.w, sampleOut.shiftLengths);
   if (slabGeometries != 0 && pm.w >= 0.0 && isTabulated(m)) {
     ivec2 fine = texel << level;
     sampleOut.slab = slabGeometry(texelFetch(irradianceNormalObject, fine, 0), texelFetch(irradianceLightDepth, fine, 0).r,

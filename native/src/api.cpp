@@ -267,6 +267,7 @@ const LayoutEntry kLayouts[] = {
     SS_FIELD(SsSettings, first_sample),
     SS_FIELD(SsSettings, shadow_resolution),
     SS_FIELD(SsSettings, precomputed_atlas),
+    SS_FIELD(SsSettings, forward_shift),
     SS_STRUCT(SsStats),
     SS_FIELD(SsStats, frame_ms),
     SS_FIELD(SsStats, stage_ms),

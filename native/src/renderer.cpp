@@ -87,6 +87,8 @@ void Renderer::setSettings(const SsSettings& s) {
   require(s.precomputed_atlas == SS_ATLAS_UV_MAP || s.precomputed_atlas == SS_ATLAS_MADE,
           "precomputed atlas must be 0 (the UV map where it fits) or 1 (made), got " +
               std::to_string(s.precomputed_atlas));
+  require(s.forward_shift == SS_FORWARD_SHIFT_ON || s.forward_shift == SS_FORWARD_SHIFT_OFF,
+          "forward shift must be 0 (on) or 1 (off), got " + std::to_string(s.forward_shift));
   for (float c : s.background) require(std::isfinite(c), "background colour must be finite");
   settings_ = s;
   if (settings_.reference_samples == 0) settings_.reference_samples = kDefaultReferenceSamples;
@@ -282,7 +284,8 @@ void Renderer::render(int width, int height, float* rgba) {
   if (!reuseDirect) shading_.clear();
   gl::checkErrors("splatting buffer");
 
-  Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha};
+  Selection selection{levels, settings_.z0_factor * translucent.radius(), settings_.alpha,
+                      settings_.forward_shift == SS_FORWARD_SHIFT_ON};
   KernelTables kernels = materialTables_.kernels();
   stats_.levels = levels;
   stats_.splat_levels = splatLevels;
@@ -548,7 +551,7 @@ void Renderer::renderPrecomputed(int width, int height) {
     stats_.precompute_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   }
   auto relightStart = Clock::now();
-  precomputedTransport_.relight(scene_, progress_);
+  precomputedTransport_.relight(scene_, progress_, settings_.forward_shift == SS_FORWARD_SHIFT_ON);
   stats_.relight_ms = std::chrono::duration<double, std::milli>(Clock::now() - relightStart).count();
   stats_.transport_reused = reuse ? 1 : 0;
   for (const SsPrecomputedObject& o : precomputedObjects())
@@ -684,6 +687,7 @@ void Renderer::renderReference(int width, int height, float* rgba) {
   options.pixelSamples = settings_.samples;
   options.firstSample = settings_.first_sample;
   options.filterWidth = settings_.filter_width;
+  options.forwardShift = settings_.forward_shift == SS_FORWARD_SHIFT_ON;
   SsStats stats{};
   reference_.render(scene_, options, width, height, rgba, progress_, stats);
   stats_ = stats;

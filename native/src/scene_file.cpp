@@ -18,16 +18,16 @@ namespace subsplat {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'S', 'S', 'C', 'E', 'N', 'E', '\0'};
-constexpr uint32_t kFormatVersion = 8;
+constexpr uint32_t kFormatVersion = 9;
 // Format 1 is format 2 with a shorter settings record (no target_error: the default); formats 1
 // and 2 have a shorter material record (no profile_model: the dipole); formats 1 to 3 a shorter
 // light record (no world_directions and area fields: there were no world and area lights); formats
 // 2 to 4 a shorter settings record (no anti-aliasing fields: one sample at the pixel's centre);
 // formats 1 to 5 have no textures in the material record; formats 4 to 6 a shorter light record (no
 // world_sh: a world of two halves); formats 5 to 7 a shorter settings record (no precomputed_atlas:
-// the UV map where it fits).
+// the UV map where it fits); format 8 a shorter one again (no forward_shift: on, the default).
 constexpr uint32_t kOldestFormatVersion = 1;
-constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4, kSettingsBytesV7 = 19 * 4;
+constexpr size_t kSettingsBytesV1 = 14 * 4, kSettingsBytesV4 = 15 * 4, kSettingsBytesV7 = 19 * 4, kSettingsBytesV8 = 20 * 4;
 enum Tag : uint32_t { kMaterial = 1, kMesh = 2, kLights = 3, kCamera = 4, kSettings = 5, kFrame = 6, kEnvironment = 7 };
 constexpr uint32_t kMeshHasUvs = 1;
 
@@ -44,8 +44,9 @@ static_assert(offsetof(SsMaterialDesc, profile_model) + 4 == kMaterialBytes &&
                   offsetof(SsMaterialDesc, profiles) == kMaterialBytes + 4 /* padding */ && sizeof(SsLightDesc) == kLightBytes &&
                   offsetof(SsLightDesc, world_directions) == kLightBytesV3 &&
                   offsetof(SsLightDesc, world_sh) == kLightBytesV6 &&
-                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 20 * 4 &&
+                  sizeof(SsCameraDesc) == 33 * 4 && sizeof(SsSettings) == 21 * 4 &&
                   offsetof(SsSettings, precomputed_atlas) == kSettingsBytesV7 &&
+                  offsetof(SsSettings, forward_shift) == kSettingsBytesV8 &&
                   offsetof(SsSettings, target_error) == kSettingsBytesV1 &&
                   offsetof(SsSettings, samples) == kSettingsBytesV4,
               "scene file records mirror the API structs; bump kFormatVersion when they change");
@@ -247,9 +248,11 @@ FrameSize readRecords(Scene& scene, const std::function<void(const SsSettings&)>
         break;
       case kSettings: {
         SsSettings settings{};
-        if (version <= 7) {
-          std::vector<char> old =
-              r.getArray<char>(version == 1 ? kSettingsBytesV1 : version <= 4 ? kSettingsBytesV4 : kSettingsBytesV7);
+        if (version <= 8) {
+          std::vector<char> old = r.getArray<char>(version == 1   ? kSettingsBytesV1
+                                                   : version <= 4 ? kSettingsBytesV4
+                                                   : version <= 7 ? kSettingsBytesV7
+                                                                  : kSettingsBytesV8);
           std::memcpy(&settings, old.data(), old.size());
         } else {
           settings = r.get<SsSettings>();

@@ -47,7 +47,7 @@ class SceneFile : public ::testing::Test {
   // Rewrites the saved file as an older format `version`: each record's payload goes through
   // edit(tag, payload), which shortens it as that format had it; the sizes follow. Material
   // records lose format 6's texture block (two absent textures and the normal strength) first, and
-  // settings format 8's precomputed_atlas.
+  // settings format 9's forward_shift and format 8's precomputed_atlas.
   // Returns how many settings records there were.
   int rewriteAs(uint32_t version, const std::function<void(uint32_t, std::vector<char>&)>& edit) const {
     std::vector<char> bytes = fileBytes(), out(bytes.begin(), bytes.begin() + 16);
@@ -67,7 +67,9 @@ class SceneFile : public ::testing::Test {
           erase(payload, 4 + i * sizeof(SsLightDesc) + offsetof(SsLightDesc, world_sh),
                 sizeof(SsLightDesc) - offsetof(SsLightDesc, world_sh));
       }
-      if (tag == 5 && version < 8 && payload.size() == sizeof(SsSettings))  // settings without precomputed_atlas
+      if (tag == 5 && version < 9 && payload.size() == sizeof(SsSettings))  // settings without forward_shift
+        payload.resize(offsetof(SsSettings, forward_shift));
+      if (tag == 5 && version < 8 && payload.size() == offsetof(SsSettings, forward_shift))  // nor precomputed_atlas
         payload.resize(offsetof(SsSettings, precomputed_atlas));
       settings += tag == 5;
       edit(tag, payload);
@@ -305,6 +307,26 @@ TEST_F(SceneFile, PrecomputedAtlasRoundTripsAndFormatSevenTakesTheUvMap) {
   settings.precomputed_atlas = 2;
   EXPECT_EQ(ssSetSettings(loaded, &settings), SS_INVALID_ARGUMENT);
   EXPECT_NE(std::string(ssGetLastError()).find("precomputed atlas"), std::string::npos) << ssGetLastError();
+  EXPECT_EQ(ssReleaseContext(loaded), SS_OK);
+}
+
+// The forward shift setting (format 9) round trips; a format 8 file, which has none, takes it on
+// (the default); anything but on and off is refused.
+TEST_F(SceneFile, ForwardShiftRoundTripsAndFormatEightTakesItOn) {
+  SsSettings settings = ssDefaultSettings();
+  EXPECT_EQ(settings.forward_shift, SS_FORWARD_SHIFT_ON);
+  settings.forward_shift = SS_FORWARD_SHIFT_OFF;
+  SsContext loaded = nullptr;
+  SsSettings got{};
+  ASSERT_NO_FATAL_FAILURE(saveAndLoad(settings, loaded, got));
+  EXPECT_EQ(got.forward_shift, SS_FORWARD_SHIFT_OFF);
+  ASSERT_EQ(rewriteAs(8, [](uint32_t, std::vector<char>&) {}), 1);
+  ASSERT_EQ(ssLoadScene(loaded, path.c_str(), nullptr, nullptr), SS_OK) << ssGetLastError();
+  ASSERT_EQ(ssGetSettings(loaded, &got), SS_OK);
+  EXPECT_EQ(got.forward_shift, SS_FORWARD_SHIFT_ON);
+  settings.forward_shift = 2;
+  EXPECT_EQ(ssSetSettings(loaded, &settings), SS_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(ssGetLastError()).find("forward shift"), std::string::npos) << ssGetLastError();
   EXPECT_EQ(ssReleaseContext(loaded), SS_OK);
 }
 

@@ -52,6 +52,7 @@ struct Options {
   float epsilon = 0.0f, alpha = 0.0f, z0 = 0.0f, targetError = 0.0f;  // 0: as saved
   uint32_t referenceSamples = 0;
   int atlas = -1;  // PRECOMPUTED's atlas: -1 as saved, else SS_ATLAS_*
+  int forwardShift = -1;  // -1 as saved, else SS_FORWARD_SHIFT_*
   bool reference = true;
   double budget = 0.0;  // splatting budget per render, millions of fragment invocations; 0: none
   std::string json, images;
@@ -81,6 +82,7 @@ struct Options {
                "  --reference-samples N   REFERENCE surface samples (default: as saved)\n"
                "  --atlas uv|made         PRECOMPUTED's atlas: the meshes' UV maps where they fit, or made\n"
                "                          as for meshes without (default: as saved)\n"
+               "  --forward-shift on|off  the TABULATED model's forward shift (default: as saved)\n"
                "  --json FILE             write every figure as JSON\n"
                "  --images DIR            write each method's image and exitance pass as\n"
                "                          DIR/<scene>_<method>.pfm and DIR/<scene>_<method>_exitance.pfm\n");
@@ -160,6 +162,10 @@ Options parse(int argc, char** argv) {
       std::string text = value();
       if (text != "uv" && text != "made") usage("--atlas wants uv or made, got " + text);
       o.atlas = text == "uv" ? SS_ATLAS_UV_MAP : SS_ATLAS_MADE;
+    } else if (a == "--forward-shift") {
+      std::string text = value();
+      if (text != "on" && text != "off") usage("--forward-shift wants on or off, got " + text);
+      o.forwardShift = text == "on" ? SS_FORWARD_SHIFT_ON : SS_FORWARD_SHIFT_OFF;
     } else if (a == "--json") {
       o.json = value();
     } else if (a == "--images") {
@@ -283,6 +289,7 @@ SsSettings settingsFor(const SsSettings& saved, const Options& options, const Va
   if (options.targetError > 0.0f) settings.target_error = options.targetError;
   if (options.referenceSamples > 0) settings.reference_samples = options.referenceSamples;
   if (options.atlas >= 0) settings.precomputed_atlas = options.atlas;
+  if (options.forwardShift >= 0) settings.forward_shift = options.forwardShift;
   return settings;
 }
 

@@ -77,12 +77,12 @@ class StructLayout(unittest.TestCase):
             native.check_layout(native.library(), Swapped, "SsSettings")
         self.assertIn("SsSettings.reference_samples is at offset 24", str(caught.exception))
 
-        class Short(ctypes.Structure):  # precomputed_atlas missing
+        class Short(ctypes.Structure):  # forward_shift missing
             _fields_ = native.Settings._fields_[:-1]
 
         with self.assertRaises(native.SubsplatError) as caught:
             native.check_layout(native.library(), Short, "SsSettings")
-        self.assertIn("SsSettings has 80 bytes", str(caught.exception))
+        self.assertIn("SsSettings has 84 bytes", str(caught.exception))
 
         class Renamed(ctypes.Structure):
             _fields_ = [("kind", ctypes.c_int32), ("colour", ctypes.c_float * 3)]

@@ -111,6 +111,14 @@ class MaterialEditAcrossRenders(unittest.TestCase):
         "Final renders")."""
         subsplat = helpers.enable_addon()
         scene, material, light = skin_sphere()
+        # Material Edit's transport is centred on where light enters: it says so while the forward
+        # shift is on, and is compared with Full under the same model, without it.
+        from subsplat.export import settings as export_settings
+        for shift in (True, False):
+            scene.subsplat.forward_shift = shift
+            warnings = []
+            export_settings.render_settings(scene, method="MATERIAL_EDIT", warnings=warnings)
+            self.assertEqual(any("forward shift" in w for w in warnings), shift, warnings)
 
         def render(method):
             image, _exitance, stats = accuracy.render_passes(scene, method)

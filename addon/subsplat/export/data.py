@@ -136,3 +136,4 @@ class Settings:
     first_sample: int = 0
     shadow_resolution: int = 0
     precomputed_atlas: str = "UV_MAP"  # PRECOMPUTED's atlas: "UV_MAP" where it fits, or "MADE"
+    forward_shift: bool = True  # the TABULATED model's forward shift (docs/TRANSPORT.md)

@@ -10,6 +10,16 @@ from .data import Light, Settings
 SMALLEST_WEIGHT = 1e-30
 
 
+# The methods whose transport does not carry the TABULATED model's forward shift, and their labels.
+UNSHIFTED_METHODS = {"MATERIAL_EDIT": "Material Edit"}
+
+
+def used_materials(scene):
+    """The materials of the scene's visible mesh objects."""
+    return {slot.material for obj in scene.objects if obj.type == "MESH" and obj.visible_get()
+            for slot in obj.material_slots if slot.material is not None}
+
+
 # The pixel filter widths the library takes (SsSettings.filter_width).
 FILTER_WIDTH_RANGE = (0.01, 10.0)
 
@@ -29,6 +39,13 @@ def render_settings(scene, debug_passes=False, method=None, viewport_sample=None
     result.filter_width = filter_width(scene, warnings)
     result.shadow_resolution = settings.shadow_resolution
     result.precomputed_atlas = settings.precomputed_atlas
+    result.forward_shift = settings.forward_shift
+    if settings.forward_shift and result.method in UNSHIFTED_METHODS and any(
+            m.subsplat.enabled and m.subsplat.profile_model == "TABULATED" for m in used_materials(scene)):
+        warnings.append(f"{UNSHIFTED_METHODS[result.method]} centres the light entering a Tabulated material on "
+                        "where it enters: its transport is made for every material it can be edited to, so it "
+                        "does not carry the forward shift, which depends on the material, and which Full gives (docs/TRANSPORT.md, \"The entry's "
+                        "forward shift\")")
     if 0 < settings.shadow_resolution < 16:  # below the library's range: the smallest it takes
         warnings.append(f"Shadow Resolution {settings.shadow_resolution} is below 16 texels; it is rendered at 16")
         result.shadow_resolution = 16

@@ -29,7 +29,7 @@ extern "C" {
 #define SS_API __attribute__((visibility("default")))
 #endif
 
-#define SS_API_VERSION 24
+#define SS_API_VERSION 25
 
 typedef enum SsStatus {
   SS_OK = 0,
@@ -245,7 +245,15 @@ typedef struct SsSettings {
    * SS_ATLAS_UV_MAP (0) takes each island of a mesh's UV map that fits as a chart and charts the
    * rest; SS_ATLAS_MADE (1) charts every mesh as if it had no UV map. */
   int32_t precomputed_atlas;
+  /* The TABULATED model's forward shift (API 25; docs/TRANSPORT.md, "The entry's forward shift"):
+   * SS_FORWARD_SHIFT_ON (0) centres the light entering at each point ahead of that point along its
+   * refracted beam, where a half-space reflects it (every method but MATERIAL_EDIT; PRECOMPUTED
+   * moves its illumination map's flux); SS_FORWARD_SHIFT_OFF (1) centres it on the entry point, as
+   * MATERIAL_EDIT always does (the add-on says so where a TABULATED material is lit). */
+  int32_t forward_shift;
 } SsSettings;
+
+typedef enum SsForwardShift { SS_FORWARD_SHIFT_ON = 0, SS_FORWARD_SHIFT_OFF = 1 } SsForwardShift;
 
 typedef enum SsAtlasSource { SS_ATLAS_UV_MAP = 0, SS_ATLAS_MADE = 1 } SsAtlasSource;
 

@@ -18,6 +18,9 @@ struct Selection {
   int levels = 1;
   float z0 = 0.0f;     // depth-range threshold, scene units
   float alpha = 15.0f;
+  // The TABULATED model's forward shift (SsSettings::forward_shift): the splat program's, not
+  // MATERIAL_EDIT's transport (splat.vert's forwardShifts).
+  bool forwardShift = true;
 };
 
 // The samples select_samples.comp selects per irradiance level (STORAGE_SELECTION_COUNTS), summed over a

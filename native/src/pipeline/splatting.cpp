@@ -72,11 +72,14 @@ bool Splatting::splat(const Scene& scene, const LightView& view, const Irradianc
   glBlendEquation(GL_FUNC_ADD);
   glBlendFunc(GL_ONE, GL_ONE);
   SplatDepth::beginTest();  // pixels whose surface lies beyond a splat's reach (prepareDepth)
-  GLuint p = programs_.get({{"PAIR_PROFILES", scene.heterogeneous()}, {"TRANSMISSION", scene.tabulated()}});
+  GLuint p = programs_.get({{"PAIR_PROFILES", scene.heterogeneous()},
+                            {"TRANSMISSION", scene.tabulated()},
+                            {"FORWARD_SHIFT", scene.tabulated() && selection.forwardShift}});
   glUseProgram(p);
   GLint offsets[9];
   setSelectionUniforms(p, scene, view, irradiance, splatting, selection, offsets);
   glUniform1f(uniform(p, "depthFar"), depth_.far());
+  glUniform1i(uniform(p, "forwardShifts"), selection.forwardShift ? 1 : 0);
   samples_.bind();
   glUniform2f(uniform(p, "kernelLog2Range"), float(SplatKernel::kMinLog2), float(SplatKernel::kMaxLog2));
   glUniform1f(uniform(p, "footprintReach"), float(SplatKernel::kFootprintReach));

@@ -953,7 +953,106 @@ void PrecomputedTransport::precompute(const Scene& scene, size_t maxBytes, const
   valid_ = true;
 }
 
-void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& progress) {
+namespace {
+
+// The TABULATED model's forward shift in the illumination map (docs/PRECOMPUTED.md, "The forward
+// shift"): the flux of each core texel, per channel, moves by its light's shift (shift[a][c], world
+// units, along the surface) to the core texels around the point it reaches, found in the world (a
+// texel-sized grid of the texels' points, so the move crosses charts as the surface does): each
+// takes the tent weight max(0, 1 - d / h) of its distance d, h = 1.5 texels, among the texels whose
+// normal faces the source's (not the far side of a thin part). Where none is near, the flux stays.
+void moveByForwardShift(const WorldMesh& wm, const Atlas& atlas, const std::vector<uint32_t>& active,
+                        const std::vector<std::array<glm::vec3, 3>>& shift, std::vector<glm::vec3>& flux,
+                        std::vector<glm::vec3>& fluxMu0) {
+  const size_t n = active.size();
+  const float h = 1.5f * atlas.texel;
+  std::vector<glm::vec3> point(n), normal(n);
+  std::vector<float> area(n, 0.0f);
+  std::vector<char> core(n, 0);
+  Bounds bounds;
+  for (size_t a = 0; a < n; ++a) {
+    const AtlasTexel& tx = atlas.texels[active[a]];
+    if (tx.area <= 0.0f || tx.triangle == AtlasTexel::kNone) continue;
+    const glm::uvec3 v = wm.triangle(tx.triangle);
+    const glm::vec3& w = tx.barycentric;
+    point[a] = w.x * wm.positions[v.x] + w.y * wm.positions[v.y] + w.z * wm.positions[v.z];
+    normal[a] = glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]);
+    core[a] = 1;
+    area[a] = tx.area;
+    bounds.extend(point[a]);
+  }
+  if (!(h > 0.0f) || bounds.lo.x > bounds.hi.x) return;
+  // The grid: cells of side h (larger where that would make more than 4M), texels sorted by cell.
+  float side = h;
+  const glm::vec3 extent = glm::max(bounds.hi - bounds.lo, glm::vec3(1e-9f));
+  while (double(extent.x / side + 1) * (extent.y / side + 1) * (extent.z / side + 1) > 4.0e6) side *= 1.5f;
+  const glm::ivec3 dims = glm::ivec3(extent / side) + 1;
+  auto cellOf = [&](const glm::vec3& p) {
+    return glm::clamp(glm::ivec3(glm::floor((p - bounds.lo) / side)), glm::ivec3(0), dims - 1);
+  };
+  auto indexOf = [&](const glm::ivec3& c) { return (size_t(c.z) * size_t(dims.y) + size_t(c.y)) * size_t(dims.x) + size_t(c.x); };
+  std::vector<uint32_t> cellStart(size_t(dims.x) * size_t(dims.y) * size_t(dims.z) + 1, 0), sorted;
+  std::vector<uint32_t> cellOfTexel(n);
+  for (size_t a = 0; a < n; ++a)
+    if (core[a]) cellOfTexel[a] = uint32_t(indexOf(cellOf(point[a]))), ++cellStart[cellOfTexel[a] + 1];
+  for (size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
+  sorted.resize(cellStart.back());
+  {
+    std::vector<uint32_t> fill(cellStart.begin(), cellStart.end() - 1);
+    for (size_t a = 0; a < n; ++a)
+      if (core[a]) sorted[fill[cellOfTexel[a]]++] = uint32_t(a);
+  }
+  std::vector<glm::vec3> movedFlux(n, glm::vec3(0.0f)), movedMu0(n, glm::vec3(0.0f));
+  struct Near {
+    uint32_t texel;
+    glm::vec3 weight;
+  };
+  std::vector<Near> near;
+  for (size_t a = 0; a < n; ++a) {
+    const std::array<glm::vec3, 3>& s = shift[a];
+    glm::vec3 total(0.0f);
+    near.clear();
+    if (core[a] && (s[0] != glm::vec3(0.0f) || s[1] != glm::vec3(0.0f) || s[2] != glm::vec3(0.0f))) {
+      // One search for the three channels: around their targets' middle, as far as the farthest.
+      const glm::vec3 target[3] = {point[a] + s[0], point[a] + s[1], point[a] + s[2]};
+      const glm::vec3 middle = (target[0] + target[1] + target[2]) / 3.0f;
+      const float reach = h + std::max({glm::distance(middle, target[0]), glm::distance(middle, target[1]),
+                                        glm::distance(middle, target[2])});
+      const glm::ivec3 lo = cellOf(middle - glm::vec3(reach)), hi = cellOf(middle + glm::vec3(reach));
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            const size_t cell = indexOf({x, y, z});
+            for (uint32_t i = cellStart[cell]; i < cellStart[cell + 1]; ++i) {
+              const uint32_t b = sorted[i];
+              if (glm::dot(normal[b], normal[a]) <= 0.0f) continue;
+              glm::vec3 w(0.0f);
+              for (int c = 0; c < 3; ++c) w[c] = std::max(0.0f, 1.0f - glm::distance(point[b], target[c]) / h) * area[b];
+              if (w == glm::vec3(0.0f)) continue;
+              near.push_back({b, w});
+              total += w;
+            }
+          }
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (!(total[c] > 0.0f)) {
+        movedFlux[a][c] += flux[a][c], movedMu0[a][c] += fluxMu0[a][c];
+        continue;
+      }
+      for (const Near& m : near) {
+        const float w = m.weight[c] / total[c];
+        movedFlux[m.texel][c] += w * flux[a][c];
+        movedMu0[m.texel][c] += w * fluxMu0[a][c];
+      }
+    }
+  }
+  flux.swap(movedFlux);
+  fluxMu0.swap(movedMu0);
+}
+
+}  // namespace
+
+void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& progress, bool forwardShift) {
   require(valid_, "PRECOMPUTED: nothing precomputed");
   if (identity(scene) != rayIdentity_) {  // the same translucent meshes; an occluder or a copy changed
     rays_ = std::make_unique<RayScene>(scene);
@@ -965,7 +1064,7 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
       }
   }
   const std::vector<MaterialEntry>& entries = scene.denseMaterials();
-  EnteringLight light(scene, *rays_);
+  EnteringLight light(scene, *rays_, forwardShift);
   // The exitance-weighted incidence cosine (alpha) is read by TABULATED materials only.
   const bool withMu0 = scene.tabulated();
   for (Object& object : objects_) {
@@ -974,6 +1073,8 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
     const size_t active = object.active.size();
     // 1. The illumination map: the flux through every texel (and times mu0), the sum of its parts'.
     std::vector<glm::vec3> flux(active, glm::vec3(0.0f)), fluxMu0(active, glm::vec3(0.0f));
+    const bool shifting = forwardShift && withMu0;
+    std::vector<std::array<glm::vec3, 3>> shift(shifting ? active : 0);  // flux-weighted, then divided
     parallelFor(active, 256, [&](size_t begin, size_t end) {
       for (size_t a = begin; a < end; ++a) {
         const AtlasTexel& tx = atlas.texels[object.active[a]];
@@ -987,9 +1088,14 @@ void PrecomputedTransport::relight(const Scene& scene, const ProgressFunction& p
           const Entering in = light.at(uint32_t(object.rayMesh), part.triangle, m.position, m.geometricNormal, m.normal,
                                        tx.area * part.share, m.base, m.entry, m.uv);
           flux[a] += in.flux, fluxMu0[a] += in.fluxMu0;
+          if (shifting)
+            for (int c = 0; c < 3; ++c) shift[a][size_t(c)] += in.flux[c] * in.shift[c];
         }
+        if (shifting)
+          for (int c = 0; c < 3; ++c) shift[a][size_t(c)] = flux[a][c] > 0.0f ? shift[a][size_t(c)] / flux[a][c] : glm::vec3(0.0f);
       }
     }, progress, 0.0, 0.5);
+    if (shifting) moveByForwardShift(wm, atlas, object.active, shift, flux, fluxMu0);
     // 2. Vertex shares and the direct part, from the core texels.
     const size_t V = size_t(object.vertices);
     std::vector<glm::vec3> share(V, glm::vec3(0.0f)), shareMu0(V, glm::vec3(0.0f));

@@ -79,8 +79,9 @@ class PrecomputedTransport {
   // Precomputes for every translucent object of `scene` (materials resolved) within `maxBytes`;
   // ownUvs: each mesh's UV map's islands that fit are charts of its atlas (buildAtlas).
   void precompute(const Scene& scene, size_t maxBytes, const ProgressFunction& progress, bool ownUvs = true);
-  // One frame under the scene's lights.
-  void relight(const Scene& scene, const ProgressFunction& progress);
+  // One frame under the scene's lights; forwardShift: the TABULATED model's (SsSettings::
+  // forward_shift), each texel's flux moved in the atlas by its light's shift.
+  void relight(const Scene& scene, const ProgressFunction& progress, bool forwardShift = false);
   void clear();
 
   struct Object {

@@ -114,6 +114,21 @@ struct Profile {
     }
     for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(float(r2), zr[c], zv[c], sigmaTr[c], scale[c]);
   }
+  // Each channel at its own squared distance (the TABULATED model's forward shift).
+  void evaluate(const double r2[3], double out[3], double area = 0.0) const {
+    if (r2[1] == r2[0] && r2[2] == r2[0]) return evaluate(r2[0], out, area);
+    if (!tabulated.empty() && !(area > 0.0 && 64.0 * area > M_PI * std::min({r2[0], r2[1], r2[2]}))) {
+      const double perUnit2 = mmPerUnit * mmPerUnit;  // each channel at its own radius, one lookup each
+      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->valueAtLog(0.5 * std::log(r2[c]) + lnMmPerUnit) * perUnit2;
+      return;
+    }
+    evaluate(r2[0], out, area);
+    double other[3];
+    for (int c = 1; c < 3; ++c) {
+      evaluate(r2[c], other, area);
+      out[c] = other[c];
+    }
+  }
 };
 
 // R_d(x_i, x_o) = sqrt(P_i(r) P_o(r)) (eq. 8); one profile when they agree.
@@ -124,7 +139,7 @@ struct ProfilePair {
 
   // Whether evaluate reads the cell's area (a TABULATED profile's peak), so others skip computing it.
   bool readsArea() const { return !in->tabulated.empty() || !out->tabulated.empty(); }
-  void evaluate(double r2, double k[3], double area = 0.0) const {
+  void evaluate(const double r2[3], double k[3], double area = 0.0) const {
     in->evaluate(r2, k, area);
     if (in == out) return;
     double o[3];
@@ -140,6 +155,7 @@ struct SurfaceSample {
   glm::vec3 flux;       // E dA, W (TABULATED: times the incidence factor)
   glm::vec3 fluxMu0;    // TABULATED: the flux of each light times its incidence cosine, summed
   glm::vec3 normal;     // TABULATED: the shading normal, facing the (first) light
+  glm::vec3 shift[3];   // TABULATED: per channel, the forward shift (Entering::shift)
   float diameter;       // longest edge of the cell
   float area;           // the cell's area (the TABULATED profile's peak reads it)
   uint32_t material;    // the entry at the centroid
@@ -174,12 +190,16 @@ struct ObjectSamples {
   // edge of its centroid). Where the profile is shorter than a cell (a metre-sized object of a
   // millimetre medium), the support alone missed the cells around x_o (stop 50).
   double reach = 0.0;
+  double longestShift = 0.0;  // the longest forward shift (SurfaceSample::shift)
 
   void buildGrid() {
     Bounds b;
     double longest = 0.0;
-    for (const SurfaceSample& s : samples) b.extend(s.position), longest = std::max(longest, double(s.diameter));
-    reach = support + longest;
+    for (const SurfaceSample& s : samples) {
+      b.extend(s.position), longest = std::max(longest, double(s.diameter));
+      for (const glm::vec3& v : s.shift) longestShift = std::max(longestShift, double(glm::length(v)));
+    }
+    reach = support + longest + longestShift;
     origin = b.lo;
     glm::vec3 extent = glm::max(b.hi - b.lo, glm::vec3(1e-6f));
     cellSize = float(std::max(reach * 0.5, 1e-9));
@@ -212,8 +232,8 @@ struct ObjectSamples {
 // diameter2 and area: the cell's longest edge squared and its area; a part's are a quarter of
 // its cell's (cut at the edges' midpoints, each part is the cell at half the size).
 void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&uv)[3], const glm::dvec3& flux,
-             const glm::dvec3& fluxMu0, double diameter2, double area, ProfilePair pair, const CellProfiles& cell,
-             int depth, glm::dvec4& sum, uint64_t& evaluations) {
+             const glm::dvec3& fluxMu0, const glm::dvec3 (&shift)[3], double diameter2, double area, ProfilePair pair,
+             const CellProfiles& cell, int depth, glm::dvec4& sum, uint64_t& evaluations) {
   glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
   glm::dvec3 offset = xo - centroid;
   double r2 = glm::dot(offset, offset);
@@ -225,13 +245,17 @@ void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&
     const glm::dvec3 parts[4][3] = {{p[0], pm[0], pm[2]}, {pm[0], p[1], pm[1]}, {pm[2], pm[1], p[2]}, {pm[0], pm[1], pm[2]}};
     const glm::dvec2 partUvs[4][3] = {{uv[0], um[0], um[2]}, {um[0], uv[1], um[1]}, {um[2], um[1], uv[2]}, {um[0], um[1], um[2]}};
     for (int i = 0; i < 4; ++i)
-      addCell(xo, parts[i], partUvs[i], quarter, quarterMu0, 0.25 * diameter2, 0.25 * area, pair, cell, depth + 1, sum,
-              evaluations);
+      addCell(xo, parts[i], partUvs[i], quarter, quarterMu0, shift, 0.25 * diameter2, 0.25 * area, pair, cell, depth + 1,
+              sum, evaluations);
     return;
   }
   if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
-  double k[3];
-  pair.evaluate(r2, k, area);
+  double k[3], r2s[3];
+  for (int c = 0; c < 3; ++c) {
+    glm::dvec3 o = offset - shift[c];
+    r2s[c] = glm::dot(o, o);
+  }
+  pair.evaluate(r2s, k, area);
   ++evaluations;
   glm::dvec3 kernel(k[0], k[1], k[2]);
   sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
@@ -255,13 +279,15 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
           const SurfaceSample& s = object.samples[i];
           glm::dvec3 offset = x - glm::dvec3(s.position);
           double r2 = glm::dot(offset, offset);
-          const double reach = support + double(s.diameter);  // ObjectSamples::reach's, for this cell
+          const double reach = support + double(s.diameter) +  // ObjectSamples::reach's, for this cell
+                               double(std::max({glm::length(s.shift[0]), glm::length(s.shift[1]), glm::length(s.shift[2])}));
           if (r2 >= reach * reach) continue;
           const Profile& in = profiles[s.material];
           ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
           double side = in.transport ? sideWeight(double(glm::dot(s.normal, no))) : 1.0;
           if (side <= 0.0) continue;
           glm::dvec3 flux = side * glm::dvec3(s.flux), fluxMu0 = side * glm::dvec3(s.fluxMu0);
+          const glm::dvec3 shift[3] = {s.shift[0], s.shift[1], s.shift[2]};
           double diameter = s.diameter;
           if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(r2) && diameter > pair.finestCell) {
             const glm::dvec3 corners[3] = {s.corners[0], s.corners[1], s.corners[2]};
@@ -271,11 +297,15 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
                                          glm::dot(corners[2] - corners[1], corners[2] - corners[1]),
                                          glm::dot(corners[0] - corners[2], corners[0] - corners[2])});
             double area = pair.readsArea() ? 0.5 * glm::length(glm::cross(corners[1] - corners[0], corners[2] - corners[0])) : 0.0;
-            addCell(x, corners, uvs, flux, fluxMu0, diameter2, area, pair, cell, 0, sum, evaluations);
+            addCell(x, corners, uvs, flux, fluxMu0, shift, diameter2, area, pair, cell, 0, sum, evaluations);
             continue;
           }
-          double k[3];
-          pair.evaluate(r2, k, pair.readsArea() ? double(s.area) : 0.0);
+          double k[3], r2s[3];
+          for (int c = 0; c < 3; ++c) {
+            glm::dvec3 o = offset - shift[c];
+            r2s[c] = glm::dot(o, o);
+          }
+          pair.evaluate(r2s, k, pair.readsArea() ? double(s.area) : 0.0);
           ++evaluations;
           glm::dvec3 kernel(k[0], k[1], k[2]);
           sum += glm::dvec4(kernel * flux, glm::dot(kernel, fluxMu0));
@@ -442,9 +472,10 @@ struct EnteringContext {
   std::vector<Profile> profiles;
   RenderLights rendered;
   std::vector<float> softSizes, entrySoftness;
+  bool forwardShift;  // Entering::shift: REFERENCE's (ReferenceOptions), not PRECOMPUTED's
 
-  EnteringContext(const Scene& s, const RayScene& r)
-      : scene(s), rays(r), entries(s.denseMaterials()), rendered(renderLights(s)) {
+  EnteringContext(const Scene& s, const RayScene& r, bool shift = false)
+      : scene(s), rays(r), entries(s.denseMaterials()), rendered(renderLights(s)), forwardShift(shift) {
     for (size_t i = 0; i < entries.size(); ++i) profiles.emplace_back(entries[i], int(i));
     // Soft shadows: each light's disk, as the GPU's views have it (light_views.cpp).
     for (const SsLightDesc& l : rendered.lights) softSizes.push_back(lightSoftSize(l));
@@ -517,9 +548,21 @@ struct EnteringContext {
           lightFlux[c] *= float(slab * slabFactor + (1.0 - slab) * halfSpace);
         }
         fluxMu0 += lightFlux * cosShading;
+        // The forward shift: the refracted beam's part along the surface (length sin theta_t) times
+        // the mean distance along it of the first collision, in scene units.
+        if (forwardShift) {
+        glm::vec3 along = (-ls.towardsLight + cosShading * entryNormal) / profile.eta;
+        double sin2 = std::min(double(glm::dot(along, along)), 1.0), muT = std::sqrt(1.0 - sin2);
+        for (int c = 0; c < 3; ++c) {
+          double extinction = profile.transport->extinction()[size_t(c)] * profile.mmPerUnit;
+          double mfp = extinction > 0.0 ? 1.0 / extinction : 0.0;
+          out.shift[c] += along * float(lightFlux[c] * profile.transport->beamCentroid(c, muT) * mfp);
+        }
+        }
       }
       flux += lightFlux;
     }
+    for (int c = 0; c < 3; ++c) out.shift[c] = flux[c] > 0.0f ? out.shift[c] / flux[c] : glm::vec3(0.0f);
     // The colour texture's tint, sqrt(T) as the light enters (irradiance_buffer.frag).
     if (entries[point].color) {
       glm::vec3 root = glm::sqrt(entries[point].color.sample(pointUv));
@@ -541,8 +584,8 @@ struct EnteringLight::Context : EnteringContext {
   using EnteringContext::EnteringContext;
 };
 
-EnteringLight::EnteringLight(const Scene& scene, const RayScene& rays)
-    : context_(std::make_unique<Context>(scene, rays)) {}
+EnteringLight::EnteringLight(const Scene& scene, const RayScene& rays, bool forwardShift)
+    : context_(std::make_unique<Context>(scene, rays, forwardShift)) {}
 EnteringLight::~EnteringLight() = default;
 
 Entering EnteringLight::at(uint32_t mesh, uint32_t triangle, const glm::vec3& p, const glm::vec3& ng,
@@ -556,7 +599,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
   auto frameStart = Clock::now();
   RayScene rays(scene);
   const auto& meshes = rays.meshes();
-  const EnteringContext entering(scene, rays);
+  const EnteringContext entering(scene, rays, options.forwardShift);
   const std::vector<MaterialEntry>& entries = entering.entries;
   const std::vector<Profile>& profiles = entering.profiles;
   // The entry of a point of triangle t at barycentric w (its UV's profile).
@@ -653,6 +696,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
                                   s.material, pointUv);
         glm::vec3 flux = in.flux, fluxMu0 = in.fluxMu0;
         s.normal = in.normal;
+        for (int c = 0; c < 3; ++c) s.shift[c] = in.shift[c];
         s.flux = flux;
         s.fluxMu0 = fluxMu0;
       };

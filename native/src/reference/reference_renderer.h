@@ -34,6 +34,8 @@ struct ReferenceOptions {
   // width (SsSettings: samples, first_sample, filter_width).
   int pixelSamples = 1, firstSample = 0;
   float filterWidth = 1.5f;
+  // The TABULATED model's forward shift (SsSettings::forward_shift; Entering::shift).
+  bool forwardShift = true;
 };
 
 class RayScene;
@@ -45,13 +47,18 @@ struct Entering {
   glm::vec3 flux{0.0f};     // E dA, W
   glm::vec3 fluxMu0{0.0f};  // TABULATED: each light's flux times its incidence cosine, summed
   glm::vec3 normal{0.0f};   // the shading normal, facing the (first) light under TABULATED
+  // TABULATED: per channel, where the entering light's reflection is centred, from the entry point
+  // (scene units): each light's forward shift along its refracted beam (TransportTables::
+  // beamCentroid), weighted by that light's flux in the channel.
+  glm::vec3 shift[3]{};
 };
 
 // REFERENCE's entering light for other CPU methods (PRECOMPUTED's illumination map,
 // precomputed/precomputed_transport.h): the same lights, shadows and factors.
 class EnteringLight {
  public:
-  EnteringLight(const Scene& scene, const RayScene& rays);
+  // forwardShift: Entering::shift is computed (else left 0).
+  EnteringLight(const Scene& scene, const RayScene& rays, bool forwardShift = false);
   ~EnteringLight();
   EnteringLight(const EnteringLight&) = delete;
   EnteringLight& operator=(const EnteringLight&) = delete;
