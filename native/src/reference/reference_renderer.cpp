@@ -236,7 +236,14 @@ void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&
              const CellProfiles& cell, int depth, glm::dvec4& sum, uint64_t& evaluations) {
   glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
   glm::dvec3 offset = xo - centroid;
-  double r2 = glm::dot(offset, offset);
+  // Each channel's distance from where its light is centred (the forward shift); the cell is cut
+  // while it is large against the nearest of them, where the profile bends most.
+  double r2s[3];
+  for (int c = 0; c < 3; ++c) {
+    glm::dvec3 o = offset - shift[c];
+    r2s[c] = glm::dot(o, o);
+  }
+  const double r2 = std::min({r2s[0], r2s[1], r2s[2]});
   constexpr double kRatio2 = ReferenceRenderer::kRefineRatio * ReferenceRenderer::kRefineRatio;
   if (depth < ReferenceRenderer::kMaxDepth && diameter2 > kRatio2 * r2 && diameter2 > pair.finestCell * pair.finestCell) {
     const glm::dvec3 pm[3] = {0.5 * (p[0] + p[1]), 0.5 * (p[1] + p[2]), 0.5 * (p[2] + p[0])};
@@ -250,11 +257,7 @@ void addCell(const glm::dvec3& xo, const glm::dvec3 (&p)[3], const glm::dvec2 (&
     return;
   }
   if (cell.mapped && depth > 0) pair.in = &cell.at((uv[0] + uv[1] + uv[2]) / 3.0);
-  double k[3], r2s[3];
-  for (int c = 0; c < 3; ++c) {
-    glm::dvec3 o = offset - shift[c];
-    r2s[c] = glm::dot(o, o);
-  }
+  double k[3];
   pair.evaluate(r2s, k, area);
   ++evaluations;
   glm::dvec3 kernel(k[0], k[1], k[2]);
@@ -288,8 +291,14 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
           if (side <= 0.0) continue;
           glm::dvec3 flux = side * glm::dvec3(s.flux), fluxMu0 = side * glm::dvec3(s.fluxMu0);
           const glm::dvec3 shift[3] = {s.shift[0], s.shift[1], s.shift[2]};
+          double r2s[3];
+          for (int c = 0; c < 3; ++c) {
+            glm::dvec3 o = offset - shift[c];
+            r2s[c] = glm::dot(o, o);
+          }
+          const double nearest2 = std::min({r2s[0], r2s[1], r2s[2]});  // addCell's
           double diameter = s.diameter;
-          if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(r2) && diameter > pair.finestCell) {
+          if (diameter > ReferenceRenderer::kRefineRatio * std::sqrt(nearest2) && diameter > pair.finestCell) {
             const glm::dvec3 corners[3] = {s.corners[0], s.corners[1], s.corners[2]};
             const glm::dvec2 uvs[3] = {s.uvs[0], s.uvs[1], s.uvs[2]};
             CellProfiles cell{&entries, &profiles, s.base, s.mapped};
@@ -300,11 +309,7 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
             addCell(x, corners, uvs, flux, fluxMu0, shift, diameter2, area, pair, cell, 0, sum, evaluations);
             continue;
           }
-          double k[3], r2s[3];
-          for (int c = 0; c < 3; ++c) {
-            glm::dvec3 o = offset - shift[c];
-            r2s[c] = glm::dot(o, o);
-          }
+          double k[3];
           pair.evaluate(r2s, k, pair.readsArea() ? double(s.area) : 0.0);
           ++evaluations;
           glm::dvec3 kernel(k[0], k[1], k[2]);
