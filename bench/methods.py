@@ -62,10 +62,12 @@ def main():
     parser.add_argument("--profile-model", default="DIPOLE", choices=("DIPOLE", "TABULATED"),
                         help="every coefficient material's profile model (docs/BENCHMARKS.md's tables: DIPOLE)")
     parser.add_argument("--export-only", action="store_true", help="write the scene files, measure nothing")
+    parser.add_argument("--directory", default=os.path.join(ROOT, "build", "bench"),
+                        help="where the scene files (and the run's report) go")
     parser.add_argument("--report", action="store_true",
                         help="rewrite docs/BENCHMARKS.md from the last run's build/bench/report.json, measure nothing")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
-    directory = os.path.join(ROOT, "build", "bench")
+    directory = args.directory
     os.makedirs(directory, exist_ok=True)
     if args.report:
         with open(os.path.join(directory, "report.json")) as f:
