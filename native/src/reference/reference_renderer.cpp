@@ -477,7 +477,7 @@ struct EnteringContext {
   std::vector<Profile> profiles;
   RenderLights rendered;
   std::vector<float> softSizes, entrySoftness;
-  bool forwardShift;  // Entering::shift: REFERENCE's (ReferenceOptions), not PRECOMPUTED's
+  bool forwardShift;  // whether Entering::shift is computed (ReferenceOptions; PRECOMPUTED's relight)
 
   EnteringContext(const Scene& s, const RayScene& r, bool shift = false)
       : scene(s), rays(r), entries(s.denseMaterials()), rendered(renderLights(s)), forwardShift(shift) {
