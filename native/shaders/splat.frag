@@ -33,25 +33,26 @@ layout(location = 0) out vec4 exitance;
 // support: a scene in kilometres of millimetre skin) the kernel is the footprint's Gaussian times
 // the profile's total, which is self-similar: the widest row, at d scaled down, times the scale
 // squared. Clamping the row instead would give a footprint too narrow, and too much energy.
-vec3 kernelAt(float layer, float support, float d, float row) {
+// The table's scale past its widest footprint (1 within it), and the texture coordinates of
+// distance d, for this splat's footprint.
+float kernelScale(float support) {
   float sigmaMax = support * exp2(kernelLog2Range.y);
-  float scale = splatFootprint > sigmaMax ? sigmaMax / splatFootprint : 1.0;
-  float reach = footprintReach * splatFootprint * scale + support;
-  vec2 uv = (vec2(sqrt(min(d * scale / reach, 1.0)), row) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
-  return texture(splatKernels, vec3(uv, layer)).rgb * (scale * scale);
+  return splatFootprint > sigmaMax ? sigmaMax / splatFootprint : 1.0;
 }
-
-// Each channel at its own distance: kernelAt's lookup three times, its scale once (in the
-// FORWARD_SHIFT variant only).
-vec3 kernelAt3(float layer, float support, vec3 d, float row) {
-  float sigmaMax = support * exp2(kernelLog2Range.y);
-  float scale = splatFootprint > sigmaMax ? sigmaMax / splatFootprint : 1.0;
+vec2 kernelUv(float support, float scale, float d, float row) {
   float reach = footprintReach * splatFootprint * scale + support;
-  vec3 x = sqrt(min(d * (scale / reach), vec3(1.0))) * (kernelTableSize.x - 1.0) + 0.5;
-  float v = (row * (kernelTableSize.y - 1.0) + 0.5) / kernelTableSize.y;
-  vec3 u = x / kernelTableSize.x;
-  return vec3(texture(splatKernels, vec3(u.r, v, layer)).r, texture(splatKernels, vec3(u.g, v, layer)).g,
-              texture(splatKernels, vec3(u.b, v, layer)).b) * (scale * scale);
+  return (vec2(sqrt(min(d * scale / reach, 1.0)), row) * (kernelTableSize - 1.0) + 0.5) / kernelTableSize;
+}
+vec3 kernelAt(float layer, float support, float d, float row) {
+  float scale = kernelScale(support);
+  return texture(splatKernels, vec3(kernelUv(support, scale, d, row), layer)).rgb * (scale * scale);
+}
+// Each channel at its own distance: three lookups, one scale (in the FORWARD_SHIFT variant only).
+vec3 kernelAt3(float layer, float support, vec3 d, float row) {
+  float scale = kernelScale(support);
+  return vec3(texture(splatKernels, vec3(kernelUv(support, scale, d.r, row), layer)).r,
+              texture(splatKernels, vec3(kernelUv(support, scale, d.g, row), layer)).g,
+              texture(splatKernels, vec3(kernelUv(support, scale, d.b, row), layer)).b) * (scale * scale);
 }
 
 void main() {

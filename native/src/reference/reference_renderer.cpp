@@ -156,6 +156,7 @@ struct SurfaceSample {
   glm::vec3 fluxMu0;    // TABULATED: the flux of each light times its incidence cosine, summed
   glm::vec3 normal;     // TABULATED: the shading normal, facing the (first) light
   glm::vec3 shift[3];   // TABULATED: per channel, the forward shift (Entering::shift)
+  float shiftReach;     // the longest of the three
   float diameter;       // longest edge of the cell
   float area;           // the cell's area (the TABULATED profile's peak reads it)
   uint32_t material;    // the entry at the centroid
@@ -197,7 +198,7 @@ struct ObjectSamples {
     double longest = 0.0;
     for (const SurfaceSample& s : samples) {
       b.extend(s.position), longest = std::max(longest, double(s.diameter));
-      for (const glm::vec3& v : s.shift) longestShift = std::max(longestShift, double(glm::length(v)));
+      longestShift = std::max(longestShift, double(s.shiftReach));
     }
     reach = support + longest + longestShift;
     origin = b.lo;
@@ -282,8 +283,7 @@ glm::dvec4 exitanceAt(const ObjectSamples& object, const glm::vec3& xo, const gl
           const SurfaceSample& s = object.samples[i];
           glm::dvec3 offset = x - glm::dvec3(s.position);
           double r2 = glm::dot(offset, offset);
-          const double reach = support + double(s.diameter) +  // ObjectSamples::reach's, for this cell
-                               double(std::max({glm::length(s.shift[0]), glm::length(s.shift[1]), glm::length(s.shift[2])}));
+          const double reach = support + double(s.diameter) + double(s.shiftReach);  // ObjectSamples::reach's, for this cell
           if (r2 >= reach * reach) continue;
           const Profile& in = profiles[s.material];
           ProfilePair pair{&in, &outProfile, ReferenceRenderer::kFinestCell * std::min(in.minZr, outProfile.minZr)};
@@ -702,6 +702,7 @@ void ReferenceRenderer::render(const Scene& scene, const ReferenceOptions& optio
         glm::vec3 flux = in.flux, fluxMu0 = in.fluxMu0;
         s.normal = in.normal;
         for (int c = 0; c < 3; ++c) s.shift[c] = in.shift[c];
+        s.shiftReach = std::max({glm::length(s.shift[0]), glm::length(s.shift[1]), glm::length(s.shift[2])});
         s.flux = flux;
         s.fluxMu0 = fluxMu0;
       };
