@@ -75,6 +75,9 @@ class TabulatedProfile final : public RadialProfile {
   double energyWithin(double r) const override;
   double totalEnergy() const override { return total_; }
   double scaleHint() const override { return 1.0 / sigmaT_; }
+  // mm: within innerRadius P is constant (the table's first bin), from outerRadius on it is 0.
+  double innerRadius() const { return rho_.front() / sigmaT_; }
+  double outerRadius() const { return rho_.back() / sigmaT_; }
 
  private:
   double total_ = 0.0, sigmaT_ = 1.0;

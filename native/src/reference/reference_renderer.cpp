@@ -14,6 +14,7 @@
 #include "pipeline/light_views.h"
 #include "reference/lighting.h"
 #include "reference/ray_scene.h"
+#include "reference/squared_radius_table.h"
 #include "util/camera.h"
 #include "util/error.h"
 #include "util/pixel_filter.h"
@@ -35,6 +36,7 @@ struct Profile {
   float scale[3]{}, zr[3]{}, zv[3]{}, sigmaTr[3]{};  // the dipole's, in float (docs/REFERENCE.md)
   std::vector<SegmentedProfile> segmented;  // SUBEDIT: per channel, in mm
   std::vector<std::shared_ptr<const TabulatedProfile>> tabulated;  // TABULATED: per channel, in mm
+  SquaredRadiusTable table;  // TABULATED: the three channels' P in 1 / unit^2 against r^2 in unit^2
   const TransportTables* transport = nullptr;                    // TABULATED
   bool holdout = false;
   double mmPerUnit = 1.0, lnMmPerUnit = 0.0;
@@ -71,6 +73,7 @@ struct Profile {
         // closed form, tests/blender/test_plane.py).
         minZr = std::min(minZr, 0.05 / mediumExtinction(channel) / mmPerUnit);
       }
+      table = tabulate(tabulated, mmPerUnit);
       return;
     }
     for (int c = 0; c < 3; ++c) {
@@ -107,19 +110,14 @@ struct Profile {
       for (int c = 0; c < 3; ++c) out[c] = segmented[size_t(c)].value(r) * perUnit2;
       return;
     }
-    if (!tabulated.empty()) {  // one logarithm for the three channels (TabulatedProfile::valueAtLog)
-      double lnR = 0.5 * std::log(r2) + lnMmPerUnit, perUnit2 = mmPerUnit * mmPerUnit;
-      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->valueAtLog(lnR) * perUnit2;
-      return;
-    }
+    if (!tabulated.empty()) return table.values(r2, out);
     for (int c = 0; c < 3; ++c) out[c] = dipoleReflectance(float(r2), zr[c], zv[c], sigmaTr[c], scale[c]);
   }
   // Each channel at its own squared distance (the TABULATED model's forward shift).
   void evaluate(const double r2[3], double out[3], double area = 0.0) const {
     if (r2[1] == r2[0] && r2[2] == r2[0]) return evaluate(r2[0], out, area);
     if (!tabulated.empty() && !(area > 0.0 && 64.0 * area > M_PI * std::min({r2[0], r2[1], r2[2]}))) {
-      const double perUnit2 = mmPerUnit * mmPerUnit;  // each channel at its own radius, one lookup each
-      for (int c = 0; c < 3; ++c) out[c] = tabulated[size_t(c)]->valueAtLog(0.5 * std::log(r2[c]) + lnMmPerUnit) * perUnit2;
+      for (int c = 0; c < 3; ++c) out[c] = table.value(r2[c], c);  // each channel at its own radius
       return;
     }
     evaluate(r2[0], out, area);
