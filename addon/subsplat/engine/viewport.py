@@ -55,6 +55,7 @@ class Counters:
         self.frame_method = None
         self.material_edit_draws = 0
         self.last_edit = {}  # of the last MATERIAL_EDIT redraw: precompute_ms, transport_reused, fragments, draw_ms
+        self.header = ""  # the text the last redraw that showed an image put in the header
 
     def as_dict(self):
         return {name: list(value) if isinstance(value, list) else value for name, value in vars(self).items()}
@@ -389,16 +390,19 @@ class ViewportSession:
             progress += ("rendered with Full (a SubEdit material), " if self.stats["transport_full_pipeline"] else
                          "transport reused, " if self.stats["transport_reused"] else
                          f"transport precomputed in {self.stats['precompute_ms']:.0f} ms, ")
+            if not self.stats["transport_full_pipeline"] and settings.forward_shift_applies(scene):
+                progress += "without the forward shift, "  # MATERIAL_EDIT's transport does not carry it
         if self.counters.frame_method == "PRECOMPUTED":  # docs/PRECOMPUTED.md
             progress += ((f"relit in {self.stats['relight_ms']:.0f} ms" if self.stats["transport_reused"] else
                           f"precomputed in {self.stats['precompute_ms']:.0f} ms") +
                          f" ({self.stats['precomputed_bytes'] / 2**20:.0f} MiB), ")
-        engine.update_stats("", f"SubSplat {chosen.replace('_', ' ').title()}: {progress}sample {self.samples}/{target}, "
+        self.counters.header = (f"SubSplat {chosen.replace('_', ' ').title()}: {progress}sample {self.samples}/{target}, "
                                 f"{frame_ms:.0f} ms at {width} x {height}, "
                                 f"{self.stats['irradiance_resolution']}² irradiance"
                                 f"{'' if self.stats['target_reachable'] else ' (short of the target error)'}, "
                                 f"{self.stats['splat_count']} splats, {self.stats['levels']} irradiance / "
                                 f"{self.stats['splat_levels']} splatting levels")
+        engine.update_stats("", self.counters.header)
 
     def release(self):
         if self.context is not None:

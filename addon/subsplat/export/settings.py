@@ -14,6 +14,13 @@ SMALLEST_WEIGHT = 1e-30
 UNSHIFTED_METHODS = {"MATERIAL_EDIT": "Material Edit"}
 
 
+def forward_shift_applies(scene):
+    """Whether the scene's renders carry the forward shift: it is on and a visible material is Tabulated
+    (a method in UNSHIFTED_METHODS then renders it without, and says so)."""
+    return scene.subsplat.forward_shift and any(
+        m.subsplat.enabled and m.subsplat.profile_model == "TABULATED" for m in used_materials(scene))
+
+
 def used_materials(scene):
     """The materials of the scene's visible mesh objects."""
     return {slot.material for obj in scene.objects if obj.type == "MESH" and obj.visible_get()
@@ -40,8 +47,7 @@ def render_settings(scene, debug_passes=False, method=None, viewport_sample=None
     result.shadow_resolution = settings.shadow_resolution
     result.precomputed_atlas = settings.precomputed_atlas
     result.forward_shift = settings.forward_shift
-    if settings.forward_shift and result.method in UNSHIFTED_METHODS and any(
-            m.subsplat.enabled and m.subsplat.profile_model == "TABULATED" for m in used_materials(scene)):
+    if result.method in UNSHIFTED_METHODS and forward_shift_applies(scene):
         warnings.append(f"{UNSHIFTED_METHODS[result.method]} centres the light entering a Tabulated material on "
                         "where it enters: its transport is made for every material it can be edited to, so it "
                         "does not carry the forward shift, which depends on the material, and which Full gives (docs/TRANSPORT.md, \"The entry's "
