@@ -19,6 +19,7 @@ flat in float splatKernelRow;
 flat in vec2 splatRange;         // [R_min, R_max) of this splatting level
 flat in vec3 splatAlong;         // TABULATED: the forward shift (splat.geom); 0 otherwise
 flat in vec3 splatShiftLengths;
+flat in vec3 splatShiftDrops;    // along the normal, onto the surface (splat.vert: surfaceDrop)
 uniform int splatLevel;
 layout(binding = UNIT_SPLATTING_POSITION_OBJECT) uniform sampler2D splattingPositionObject;
 layout(binding = UNIT_SPLATTING_NORMAL_MATERIAL) uniform sampler2D splattingNormalMaterial;
@@ -66,9 +67,9 @@ void main() {
   // each channel's reflection is centred (the TABULATED model's forward shift).
   if (d < splatRange.x || d >= splatRange.y) discard;
 #if FORWARD_SHIFT
-  vec3 dc = vec3(distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.r),
-                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.g),
-                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.b));
+  vec3 dc = vec3(distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.r + splatNormalMu0.xyz * splatShiftDrops.r),
+                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.g + splatNormalMu0.xyz * splatShiftDrops.g),
+                 distance(po.xyz, splatPosition + splatAlong * splatShiftLengths.b + splatNormalMu0.xyz * splatShiftDrops.b));
   if (min(dc.r, min(dc.g, dc.b)) >= reach) discard;
   vec3 kernel = kernelAt3(materials[splatMaterial].optics.w, support, dc, splatKernelRow);
 #else

@@ -17,6 +17,7 @@ in SplatSample {
   vec2 slab;
   vec3 along;         // TABULATED: the forward shift (splat.vert)
   vec3 shiftLengths;
+  vec3 shiftDrops;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;
@@ -51,14 +52,17 @@ flat out int splatMaterial;
 flat out vec4 splatNormalMu0;
 flat out vec3 splatAlong;
 flat out vec3 splatShiftLengths;
+flat out vec3 splatShiftDrops;
 // One splat of material entry m at position with the flux and footprint sigma. Under the TABULATED
 // model the kernel is centred ahead of the sample along the beam (each channel by its own length),
 // so the quad and the last level reach that much further.
 void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
   bool shifted = isTabulated(m);
   vec3 along = shifted ? sampleIn[0].along : vec3(0.0), lengths = shifted ? sampleIn[0].shiftLengths : vec3(0.0);
-  float reach = footprintReach * footprint + materials[m].ranges.x +
-                length(along) * max(lengths.r, max(lengths.g, lengths.b));
+  vec3 drops = shifted ? sampleIn[0].shiftDrops : vec3(0.0);
+  float sinT2 = dot(along, along), longest = 0.0;  // the longest shift, the move onto the surface included
+  for (int k = 0; k < 3; ++k) longest = max(longest, sqrt(sinT2 * lengths[k] * lengths[k] + drops[k] * drops[k]));
+  float reach = footprintReach * footprint + materials[m].ranges.x + longest;
   vec3 c = (worldToView * vec4(position, 1.0)).xyz;
   vec2 range = vec2(0.0, reach);
   if (splatLevels > 1) {
@@ -102,6 +106,7 @@ void emitSplat(int m, vec3 position, vec3 flux, float footprint) {
     splatNormalMu0 = sampleIn[0].normalMu0;
     splatAlong = along;
     splatShiftLengths = lengths;
+    splatShiftDrops = drops;
     gl_Position = vec4((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, 2.0 * far - 1.0, 1.0);
     EmitVertex();
   }

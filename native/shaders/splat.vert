@@ -32,7 +32,37 @@ out SplatSample {
   vec2 slab;      // with slabGeometries, TABULATED: slabGeometry at the texel
   vec3 along;         // TABULATED: the forward shift (common.glsl: forwardShift); 0 otherwise
   vec3 shiftLengths;
+  vec3 shiftDrops;    // per channel, along the normal onto the surface (surfaceDrop)
 } sampleOut;
+
+// How far along the sample's normal n the forward-shifted centre x + dir s moves onto the surface
+// (dir: the shift's unit direction along the surface, s its length). On a curved part the point of
+// the tangent plane lies off the surface (above a convex part by about s^2 / 2R), where the
+// profile's peak would never be reached; REFERENCE moves it with a ray (reference_renderer.cpp:
+// ontoSurface). Here the surface is taken as the paraboloid through x, of normal n, that holds the
+// point the light view sees over x + dir s / 2 (the finest level of the irradiance buffer; over
+// x + dir s / 4 where the light sees past the object there, as it does near its silhouette): the
+// point's height z over the tangent plane at squared distance u2 along it gives the height
+// z s^2 / u2 at s. 0 where the light view sees no surface of the object near x, or only x's own.
+float surfaceDrop(vec3 x, vec3 n, vec3 dir, float s, float object) {
+  const float ahead[4] = float[4](1.0, 0.5, -0.5, -1.0);
+  for (int k = 0; k < 4; ++k) {
+    float f = ahead[k];
+    vec4 clip = lightViewProj * vec4(x + dir * (f * s), 1.0);
+    if (!(s > 0.0) || clip.w <= 0.0) return 0.0;
+    vec2 q = clip.xy / clip.w;
+    if (any(greaterThanEqual(abs(q), vec2(1.0)))) continue;
+    ivec2 t = clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
+    vec4 pm = texelFetch(irradiancePositionMaterial, t, 0);
+    vec4 no = texelFetch(irradianceNormalObject, t, 0);
+    if (pm.w < 0.0 || no.w != object) continue;
+    vec3 d = pm.xyz - x;
+    float z = dot(d, n), u2 = dot(d, d) - z * z;
+    if (u2 <= 0.0625 * f * f * s * s) continue;  // too near x to tell its curvature
+    return clamp(z * s * s / u2, -s, s);
+  }
+  return 0.0;
+}
 
 void main() {
   int i = int(samples[gl_VertexID]);
@@ -57,8 +87,15 @@ void main() {
   sampleOut.normalMu0 = vec4(no.xyz, clamp(dot(no.xyz, towardsLight(pm.xyz)), 0.0, 1.0));
   sampleOut.along = vec3(0.0);
   sampleOut.shiftLengths = vec3(0.0);
-  if (forwardShifts != 0 && pm.w >= 0.0 && isTabulated(m) && dot(no.xyz, no.xyz) > 0.0)
-    sampleOut.along = forwardShift(m, pm.xyz, normalize(no.xyz), sampleOut.normalMu0.w, sampleOut.shiftLengths);
+  sampleOut.shiftDrops = vec3(0.0);
+  if (forwardShifts != 0 && pm.w >= 0.0 && isTabulated(m) && dot(no.xyz, no.xyz) > 0.0) {
+    vec3 n = normalize(no.xyz);
+    sampleOut.along = forwardShift(m, pm.xyz, n, sampleOut.normalMu0.w, sampleOut.shiftLengths);
+    float sinT = length(sampleOut.along);
+    vec3 dir = sinT > 0.0 ? sampleOut.along / sinT : vec3(0.0);
+    for (int c = 0; c < 3; ++c)
+      sampleOut.shiftDrops[c] = surfaceDrop(pm.xyz, n, dir, sinT * sampleOut.shiftLengths[c], no.w);
+  }
   if (slabGeometries != 0 && pm.w >= 0.0 && isTabulated(m)) {
     ivec2 fine = texel << level;
     sampleOut.slab = slabGeometry(texelFetch(irradianceNormalObject, fine, 0), texelFetch(irradianceLightDepth, fine, 0).r,

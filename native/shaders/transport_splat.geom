@@ -18,6 +18,7 @@ in SplatSample {
   vec2 slab;
   vec3 along;
   vec3 shiftLengths;
+  vec3 shiftDrops;
 } sampleIn[];
 uniform mat4 worldToView;
 uniform mat4 viewToClip;

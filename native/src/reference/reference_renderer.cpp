@@ -489,6 +489,25 @@ struct EnteringContext {
     entrySoftness.assign(rendered.lights.size(), 0.0f);
     if (rays.meshes().size() > 1) entrySoftness = softSizes;
   }
+  // The forward-shifted centre p + shift moved onto the surface of mesh `mesh` below (or above) it
+  // along the entry's normal n (facing the light): on a curved part the point of the tangent plane
+  // lies off the surface (above a convex part by about s^2 / 2R), where the profile's peak is
+  // never reached (docs/TRANSPORT.md, "The entry's forward shift"). Kept where no surface of the
+  // mesh within |shift| of it along n is there, or it is nearly edge-on to n (splat.vert's
+  // surfaceDrop, which finds the surface in the light's view, does the same).
+  glm::vec3 ontoSurface(uint32_t mesh, const glm::vec3& p, const glm::vec3& n, const glm::vec3& shift) const {
+    float length = glm::length(shift);
+    if (!(length > 0.0f)) return shift;
+    glm::vec3 origin = p + shift + n * length;
+    Hit h = rays.intersect(origin, -n, 0.0f, 2.0f * length);
+    if (!h.valid() || uint32_t(h.mesh) != mesh) return shift;
+    const WorldMesh& wm = rays.meshes()[size_t(h.mesh)];
+    glm::uvec3 t = wm.triangle(h.triangle);
+    glm::vec3 ng = glm::cross(wm.positions[t.y] - wm.positions[t.x], wm.positions[t.z] - wm.positions[t.x]);
+    float area2 = glm::length(ng);
+    if (!(area2 > 0.0f) || std::abs(glm::dot(ng, n)) < 0.25f * area2) return shift;  // as splat.vert's facing
+    return origin - n * h.distance - p;
+  }
   bool translucentHit(const Hit& h) const {
     return profiles[(*rays.meshes()[size_t(h.mesh)].materials)[h.triangle]].translucent;
   }
@@ -566,6 +585,8 @@ struct EnteringContext {
       flux += lightFlux;
     }
     for (int c = 0; c < 3; ++c) out.shift[c] = flux[c] > 0.0f ? out.shift[c] / flux[c] : glm::vec3(0.0f);
+    if (forwardShift)  // each channel's centre onto the surface
+      for (int c = 0; c < 3; ++c) out.shift[c] = ontoSurface(mesh, p, out.normal, out.shift[c]);
     // The colour texture's tint, sqrt(T) as the light enters (irradiance_buffer.frag).
     if (entries[point].color) {
       glm::vec3 root = glm::sqrt(entries[point].color.sample(pointUv));

@@ -9,6 +9,9 @@
 #include <vector>
 
 #include "material/dipole.h"
+#include "reference/ray_scene.h"
+#include "reference/reference_renderer.h"
+#include "scene.h"
 #include "subsplat/subsplat.h"
 #include "testing/egl_context.h"
 #include "testing/scenes.h"
@@ -199,6 +202,55 @@ TEST_F(Reference, RejectsOutOfRangeSampleCounts) {
     settings.reference_samples = samples;
     EXPECT_EQ(ssSetSettings(context, &settings), SS_INVALID_ARGUMENT) << samples;
   }
+}
+
+// The TABULATED model's forward shift on a curved part (docs/TRANSPORT.md, "The entry's forward
+// shift"): the reflected light is centred on the surface, not on the entry's tangent plane, which
+// over a sphere of radius R lies s^2 / 2R above it. Skin1 at 2 mm per unit on a sphere of 0.5 units
+// (1 mm: about one red mean free path), a sun at 60 degrees: every shifted centre of a lit cell
+// lies on the sphere's mesh, where the tangent plane's point was off it by up to s^2 / 2R.
+TEST(ReferenceShift, TheShiftedCentreLiesOnTheSurface) {
+  testing::Sphere sphere(96, 48);
+  SsMaterialDesc skin = testing::skinMaterial(2.0f);
+  skin.profile_model = SS_PROFILE_TABULATED;
+  Scene scene;
+  scene.setMaterial(0, skin);
+  const float radius = 0.5f;
+  scene.setMesh(0, sphere.desc(glm::vec3(0.0f), radius, 0));
+  SsLightDesc sun = testing::sunLight(3.0f, 60.0f);
+  scene.setLights(&sun, 1);
+  scene.resolveMaterials();
+  RayScene rays(scene);
+  EnteringLight onto(scene, rays, true);
+  const WorldMesh& wm = rays.meshes()[0];
+  // The mesh's own sagitta: a flat facet of the 96 x 48 sphere lies up to R (1 - cos(pi / 48)) inside it.
+  const float sagitta = radius * (1.0f - std::cos(float(M_PI) / 48.0f));
+  double worstOff = 0.0, worstTangent = 0.0;
+  int lit = 0;
+  for (uint32_t t = 0; t < uint32_t(wm.indices->size() / 3); t += 7) {
+    const glm::uvec3 v = wm.triangle(t);
+    const glm::vec3 p = (wm.positions[v.x] + wm.positions[v.y] + wm.positions[v.z]) / 3.0f;
+    glm::vec3 ng = glm::cross(wm.positions[v.y] - wm.positions[v.x], wm.positions[v.z] - wm.positions[v.x]);
+    if (!(glm::length(ng) > 0.0f)) continue;
+    ng = glm::normalize(ng);
+    const glm::vec3 ns = glm::normalize(wm.normals[v.x] + wm.normals[v.y] + wm.normals[v.z]);
+    const uint32_t base = (*wm.materials)[t];
+    const Entering in = onto.at(0, t, p, ng, ns, 1e-4f, base, base, glm::vec2(0.0f));
+    if (in.flux.g <= 0.0f) continue;
+    for (int c = 0; c < 3; ++c) {
+      const float s = glm::length(in.shift[c]);
+      if (!(s > 0.05f * radius)) continue;  // too short for the curvature to tell
+      ++lit;
+      // The shift's tangent-plane point would be |p + tangent| - R ~ s^2 / 2R off the sphere.
+      worstTangent = std::max(worstTangent, double(s * s / (2.0f * radius)));
+      worstOff = std::max(worstOff, double(std::abs(glm::length(p + in.shift[c]) - radius)));
+    }
+  }
+  std::printf("%d shifted centres: off the sphere by at most %.5f units (the tangent plane's point: up to %.5f; "
+              "the mesh's sagitta %.5f)\n", lit, worstOff, worstTangent, double(sagitta));
+  ASSERT_GT(lit, 100);
+  EXPECT_LT(worstOff, 1.5 * sagitta + 1e-5);
+  EXPECT_GT(worstTangent, 4.0 * sagitta) << "the scene should tell the tangent plane from the surface";
 }
 
 }  // namespace
