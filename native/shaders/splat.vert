@@ -39,17 +39,19 @@ out SplatSample {
 // (dir: the shift's unit direction along the surface, s its length). On a curved part the point of
 // the tangent plane lies off the surface (above a convex part by about s^2 / 2R), where the
 // profile's peak would never be reached; REFERENCE moves it with a ray (reference_renderer.cpp:
-// ontoSurface). Here the surface is taken as the paraboloid through x, of normal n, that holds the
-// point the light view sees over x + dir s / 2 (the finest level of the irradiance buffer; over
-// x + dir s / 4 where the light sees past the object there, as it does near its silhouette): the
-// point's height z over the tangent plane at squared distance u2 along it gives the height
-// z s^2 / u2 at s. 0 where the light view sees no surface of the object near x, or only x's own.
+// ontoSurface). The GPU has no rays: here the surface is taken as the paraboloid through x, of
+// normal n, that holds a surface point the light view sees (the finest level of the irradiance
+// buffer) over x + dir s, else over x + dir s / 2, x - dir s / 2 or x - dir s (the points ahead
+// fail near the light's silhouette, which the shift moves towards). That point's height z over the
+// tangent plane at squared distance u2 along it gives the height z s^2 / u2 at s, within +-s. 0
+// where the light view sees no surface of the object at any of them but x's own neighbourhood.
 float surfaceDrop(vec3 x, vec3 n, vec3 dir, float s, float object) {
+  if (!(s > 0.0)) return 0.0;
   const float ahead[4] = float[4](1.0, 0.5, -0.5, -1.0);
   for (int k = 0; k < 4; ++k) {
     float f = ahead[k];
     vec4 clip = lightViewProj * vec4(x + dir * (f * s), 1.0);
-    if (!(s > 0.0) || clip.w <= 0.0) return 0.0;
+    if (clip.w <= 0.0) continue;
     vec2 q = clip.xy / clip.w;
     if (any(greaterThanEqual(abs(q), vec2(1.0)))) continue;
     ivec2 t = clamp(ivec2((q * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));

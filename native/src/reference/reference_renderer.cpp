@@ -493,8 +493,9 @@ struct EnteringContext {
   // along the entry's normal n (facing the light): on a curved part the point of the tangent plane
   // lies off the surface (above a convex part by about s^2 / 2R), where the profile's peak is
   // never reached (docs/TRANSPORT.md, "The entry's forward shift"). Kept where no surface of the
-  // mesh within |shift| of it along n is there, or it is nearly edge-on to n (splat.vert's
-  // surfaceDrop, which finds the surface in the light's view, does the same).
+  // mesh lies within |shift| of it along n, or the one there is nearly edge-on to n. (The splatting
+  // methods have no rays: splat.vert's surfaceDrop takes the surface as a paraboloid through a
+  // point the light view sees.)
   glm::vec3 ontoSurface(uint32_t mesh, const glm::vec3& p, const glm::vec3& n, const glm::vec3& shift) const {
     float length = glm::length(shift);
     if (!(length > 0.0f)) return shift;
