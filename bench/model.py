@@ -11,7 +11,8 @@ pictures docs/images/model/<case>_<model>.png (FULL | truth | error x10).
 
     BLENDER_USER_SCRIPTS=build/scripts nice -n 19 blender -b --factory-startup --addons subsplat \
         --python bench/model.py -- [--cases slab thin sphere example] [--only NAME ...] \
-        [--reference-samples 200000] [--output bench/results/model.json] [--images docs/images/model]
+        [--reference-samples 200000] [--output bench/results/model.json] [--images docs/images/model] \
+        [--scene-files DIR]
 
 The truths are not rendered again (bench/physical.py does, 1-2 hours); a case without one is an
 error. Results are merged into the JSON by case name.
@@ -78,7 +79,10 @@ def run_case(args, name, kind, build, details, committed):
                 quality = scene.subsplat.quality
                 scene.subsplat.irradiance_resolution = resolution  # makes the quality manual
             if label == "FULL":  # the first FULL render pays for the context and shaders
+                if args.scene_files:  # the case as the library receives it, for subsplat_replay
+                    scene.subsplat.scene_file = os.path.join(args.scene_files, f"{name}_{model.lower()}.ssscene")
                 accuracy.render_passes(scene, method, None)
+                scene.subsplat.scene_file = ""
             image, exitance, stats = accuracy.render_passes(scene, method, args.reference_samples)
             if resolution is not None:
                 scene.subsplat.quality = quality
@@ -124,9 +128,13 @@ def main():
     parser.add_argument("--reference-samples", type=int, default=200000)
     parser.add_argument("--output", default=os.path.join(HERE, "results", "model.json"))
     parser.add_argument("--images", default=os.path.join(ROOT, "docs", "images", "model"))
+    parser.add_argument("--scene-files", default=None,
+                        help="a folder: also save each case as FULL renders it, <case>_<model>.ssscene, for subsplat_replay")
     args = parser.parse_args(argv)
     helpers.enable_addon()
     os.makedirs(args.images, exist_ok=True)
+    if args.scene_files:
+        os.makedirs(args.scene_files, exist_ok=True)
     with open(os.path.join(HERE, "results", "physical.json")) as f:
         committed = json.load(f)["cases"]
     results = {}
