@@ -70,7 +70,8 @@ class TabulatedProfile final : public RadialProfile {
   double value(double r) const override;
   // value(r) from ln r (r in mm), with no logarithm of its own: the channels' knots lie at the same
   // rho (the table's bins), so a caller evaluating three channels at one r takes one logarithm, not
-  // three (REFERENCE evaluates P some 10^8 times a frame). value(r) is valueAtLog(ln r).
+  // three. value(r) is valueAtLog(ln r). (REFERENCE, which evaluates P some 10^8 times a frame,
+  // reads a table made from it: reference/squared_radius_table.h.)
   double valueAtLog(double lnR) const;
   double energyWithin(double r) const override;
   double totalEnergy() const override { return total_; }

@@ -39,7 +39,7 @@ struct Profile {
   SquaredRadiusTable table;  // TABULATED: the three channels' P in 1 / unit^2 against r^2 in unit^2
   const TransportTables* transport = nullptr;                    // TABULATED
   bool holdout = false;
-  double mmPerUnit = 1.0, lnMmPerUnit = 0.0;
+  double mmPerUnit = 1.0;
   double support = 0.0, minZr = 0.0;  // minZr: the length the profile bends over
   float eta = 1.0f, roughness = 0.5f, specular = 0.0f;
   glm::vec3 baseColor{0.0f};
@@ -49,7 +49,6 @@ struct Profile {
       : translucent(isTranslucent(e.desc)), holdout(e.desc.kind == SS_MATERIAL_HOLDOUT), mmPerUnit(e.desc.mm_per_unit), eta(e.desc.eta),
         roughness(e.desc.roughness), specular(e.desc.specular), baseColor(glm::make_vec3(e.desc.base_color)),
         world(unshadowedResponse(e)) {
-    lnMmPerUnit = std::log(mmPerUnit);
     const SsMaterialDesc& d = e.desc;
     if (d.kind == SS_MATERIAL_SUBEDIT) {
       const ProfileSet& set = *e.profiles;

@@ -46,22 +46,31 @@ class SquaredRadiusTable {
     for (int c = 0; c < 3; ++c) values_[size_t(nodes_ - 1) * 3 + size_t(c)] = 0.0f;
   }
 
-  bool empty() const { return values_.empty(); }
-
-  double value(double r2, int c) const {
-    uint32_t b = bits(float(r2));
-    int64_t i = int64_t(b >> kShift) - int64_t(first_);
-    if (i < 0 || (b >> 31) != 0) return values_[size_t(c)];
-    if (i >= nodes_ - 1) return 0.0;
-    float t = float(b & kFraction) * (1.0f / float(kFraction + 1));
-    const float* v = &values_[size_t(i) * 3 + size_t(c)];
-    return double(v[0] + t * (v[3] - v[0]));
-  }
+  double value(double r2, int c) const { return at(nodeOf(r2), c); }
+  // The three channels at one r2: the node found once.
   void values(double r2, double out[3]) const {
-    for (int c = 0; c < 3; ++c) out[c] = value(r2, c);
+    const Node n = nodeOf(r2);
+    for (int c = 0; c < 3; ++c) out[c] = at(n, c);
   }
 
  private:
+  // The node below r2 (i < 0 below the first node, also for a negative r2; i >= nodes_ - 1 from the
+  // last on) and the fraction t of the way to the next.
+  struct Node {
+    int64_t i;
+    float t;
+  };
+  Node nodeOf(double r2) const {
+    uint32_t b = bits(float(r2));
+    if ((b >> 31) != 0) return {-1, 0.0f};
+    return {int64_t(b >> kShift) - int64_t(first_), float(b & kFraction) * (1.0f / float(kFraction + 1))};
+  }
+  double at(const Node& n, int c) const {
+    if (n.i < 0) return values_[size_t(c)];
+    if (n.i >= nodes_ - 1) return 0.0;
+    const float* v = &values_[size_t(n.i) * 3 + size_t(c)];
+    return double(v[0] + n.t * (v[3] - v[0]));
+  }
   static constexpr int kShift = 23 - kBits;  // float: 23 mantissa bits
   static constexpr uint32_t kFraction = (1u << kShift) - 1;
   static uint32_t bits(float f) {
